@@ -1,0 +1,49 @@
+#include "core/log.h"
+
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+namespace volts::core {
+namespace {
+LogLevel g_level = LogLevel::normal;
+std::string g_tool = "volts";
+}  // namespace
+
+void set_log_level(LogLevel level) { g_level = level; }
+LogLevel log_level() { return g_level; }
+void set_log_tool(const std::string& tool) { g_tool = tool; }
+
+void log(const std::string& message) {
+  if (g_level >= LogLevel::normal) std::cerr << "[" << g_tool << "] " << message << "\n";
+}
+void log_verbose(const std::string& message) {
+  if (g_level >= LogLevel::verbose) std::cerr << "[" << g_tool << "] " << message << "\n";
+}
+void log_warning(const std::string& message) {
+  if (g_level > LogLevel::quiet) std::cerr << "[" << g_tool << "] warning: " << message << "\n";
+}
+
+LogSection::LogSection(std::string name) : name_(std::move(name)) { log("== " + name_); }
+LogSection::~LogSection() {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3f s", watch_.seconds());
+  log("== " + name_ + ": " + buf);
+}
+
+Progress::Progress(std::string what, std::size_t total) : what_(std::move(what)), total_(total) {}
+void Progress::step(std::size_t done) {
+  const double t = watch_.seconds();
+  if (t - last_ < 2.0 || total_ == 0) return;
+  last_ = t;
+  std::ostringstream s;
+  s << what_ << ": " << done << "/" << total_ << " (" << (100 * done / total_) << " %)";
+  log(s.str());
+}
+void Progress::finish() {
+  if (finished_) return;
+  finished_ = true;
+  if (watch_.seconds() >= 2.0) log(what_ + ": done");
+}
+
+}  // namespace volts::core
