@@ -1,0 +1,167 @@
+#include "bezier/bezier_hex.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "bezier/bernstein.h"
+#include "core/errors.h"
+
+namespace volts::bezier {
+
+void check(const BezierHex& hex) {
+  for (int d = 0; d < 3; ++d)
+    if (hex.degree[d] < 1)
+      throw core::InvalidInputError("BezierHex: degree " + std::to_string(hex.degree[d]) + " in direction " +
+                                    std::to_string(d) + ", must be >= 1");
+  const std::size_t n = static_cast<std::size_t>(hex.num_points());
+  if (hex.points.size() != n)
+    throw core::InvalidInputError("BezierHex: " + std::to_string(hex.points.size()) + " control points, degrees " +
+                                  std::to_string(hex.degree[0]) + "," + std::to_string(hex.degree[1]) + "," +
+                                  std::to_string(hex.degree[2]) + " need " + std::to_string(n));
+  if (!hex.weights.empty()) {
+    if (hex.weights.size() != n)
+      throw core::InvalidInputError("BezierHex: " + std::to_string(hex.weights.size()) + " weights for " +
+                                    std::to_string(n) + " control points");
+    for (std::size_t i = 0; i < n; ++i)
+      if (!(hex.weights[i] > 0.0) || !std::isfinite(hex.weights[i]))
+        throw core::InvalidInputError("BezierHex: weight " + std::to_string(i) + " = " +
+                                      std::to_string(hex.weights[i]) + " is not finite and positive");
+  }
+}
+
+Eigen::Vector3d evaluate(const BezierHex& hex, const Eigen::Vector3d& uvw, Eigen::Matrix3d* jacobian) {
+  check(hex);
+  std::array<Eigen::VectorXd, 3> B, dB;
+  for (int d = 0; d < 3; ++d) B[d] = bernstein_basis(hex.degree[d], uvw[d], &dB[d]);
+  // Homogeneous sums: A = sum w B P, W = sum w B and their partial derivatives.
+  Eigen::Vector3d A = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d dA = Eigen::Matrix3d::Zero();
+  double W = 0.0;
+  Eigen::RowVector3d dW = Eigen::RowVector3d::Zero();
+  const auto& [p, q, r] = hex.degree;
+  for (int k = 0; k <= r; ++k)
+    for (int j = 0; j <= q; ++j)
+      for (int i = 0; i <= p; ++i) {
+        const int idx = hex.index(i, j, k);
+        const double w = hex.weight(idx);
+        const double b = w * B[0][i] * B[1][j] * B[2][k];
+        const Eigen::RowVector3d db(w * dB[0][i] * B[1][j] * B[2][k], w * B[0][i] * dB[1][j] * B[2][k],
+                                    w * B[0][i] * B[1][j] * dB[2][k]);
+        A += b * hex.points[idx];
+        W += b;
+        dA += hex.points[idx] * db;
+        dW += db;
+      }
+  const Eigen::Vector3d x = A / W;
+  if (jacobian) *jacobian = (dA - x * dW) / W;  // quotient rule
+  return x;
+}
+
+double scaled_jacobian(const Eigen::Matrix3d& J) {
+  const double n0 = J.col(0).norm(), n1 = J.col(1).norm(), n2 = J.col(2).norm();
+  if (n0 == 0.0 || n1 == 0.0 || n2 == 0.0) return 0.0;
+  return std::clamp(J.determinant() / (n0 * n1 * n2), -1.0, 1.0);  // |det| <= product by Hadamard
+}
+
+JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points) {
+  check(hex);
+  const std::vector<double> g = gauss_legendre_points(gauss_points);
+  JacobianSample s;
+  auto add = [&](const Eigen::Vector3d& uvw) {
+    Eigen::Matrix3d J;
+    evaluate(hex, uvw, &J);
+    const double det = J.determinant(), sj = scaled_jacobian(J);
+    s.min_det = std::min(s.min_det, det);
+    s.max_det = std::max(s.max_det, det);
+    s.min_scaled = std::min(s.min_scaled, sj);
+    s.max_scaled = std::max(s.max_scaled, sj);
+  };
+  for (int c = 0; c < 8; ++c) add(Eigen::Vector3d(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+  for (double w : g)
+    for (double v : g)
+      for (double u : g) add(Eigen::Vector3d(u, v, w));
+  return s;
+}
+
+double volume(const BezierHex& hex, int gauss_points) {
+  check(hex);
+  const std::vector<double> g = gauss_legendre_points(gauss_points);
+  const std::vector<double> gw = gauss_legendre_weights(gauss_points);
+  double vol = 0.0;
+  for (int k = 0; k < gauss_points; ++k)
+    for (int j = 0; j < gauss_points; ++j)
+      for (int i = 0; i < gauss_points; ++i) {
+        Eigen::Matrix3d J;
+        evaluate(hex, Eigen::Vector3d(g[i], g[j], g[k]), &J);
+        vol += gw[i] * gw[j] * gw[k] * J.determinant();
+      }
+  return vol;
+}
+
+BezierHex map_coefficients(const BezierHex& hex, const std::array<Eigen::MatrixXd, 3>& M) {
+  check(hex);
+  std::array<int, 3> in{}, out{};
+  for (int d = 0; d < 3; ++d) {
+    in[d] = hex.degree[d] + 1;
+    out[d] = static_cast<int>(M[d].rows());
+    if (M[d].cols() != in[d] || out[d] < 2)
+      throw core::InvalidInputError("map_coefficients: map " + std::to_string(d) + " is " +
+                                    std::to_string(M[d].rows()) + "x" + std::to_string(M[d].cols()) +
+                                    ", expected (m+1)x" + std::to_string(in[d]) + " with m >= 1");
+    if (!hex.is_rational())
+      for (int a = 0; a < out[d]; ++a)
+        if (std::abs(M[d].row(a).sum() - 1.0) > 1e-12)
+          throw core::InvalidInputError("map_coefficients: map " + std::to_string(d) +
+                                        " is not affine (row sums != 1) for a polynomial hex");
+  }
+  // Homogeneous coefficients as a 4 x N matrix, contracted one direction at a time (sum
+  // factorisation): cost O(N * max(m+1)) instead of O(N^2).
+  std::array<int, 3> dims = in;
+  std::vector<Eigen::Vector4d> H(hex.points.size());
+  for (std::size_t n = 0; n < H.size(); ++n) {
+    const double w = hex.weight(static_cast<int>(n));
+    H[n] << w * hex.points[n], w;
+  }
+  for (int d = 0; d < 3; ++d) {
+    std::array<int, 3> nd = dims;
+    nd[d] = out[d];
+    std::vector<Eigen::Vector4d> G(static_cast<std::size_t>(nd[0]) * nd[1] * nd[2], Eigen::Vector4d::Zero());
+    for (int k = 0; k < nd[2]; ++k)
+      for (int j = 0; j < nd[1]; ++j)
+        for (int i = 0; i < nd[0]; ++i) {
+          std::array<int, 3> src{i, j, k};
+          Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+          const int a = src[d];
+          for (int b = 0; b < dims[d]; ++b) {
+            src[d] = b;
+            sum += M[d](a, b) * H[src[0] + dims[0] * (src[1] + dims[1] * src[2])];
+          }
+          G[i + nd[0] * (j + nd[1] * k)] = sum;
+        }
+    H = std::move(G);
+    dims = nd;
+  }
+  BezierHex res;
+  res.degree = {out[0] - 1, out[1] - 1, out[2] - 1};
+  res.points.resize(H.size());
+  if (hex.is_rational()) res.weights.resize(H.size());
+  for (std::size_t n = 0; n < H.size(); ++n) {
+    const double w = H[n][3];
+    if (!(w > 0.0))
+      throw core::InvalidInputError("map_coefficients: resulting weight " + std::to_string(n) + " = " +
+                                    std::to_string(w) + " is not positive");
+    res.points[n] = H[n].head<3>() / w;
+    if (hex.is_rational()) res.weights[n] = w;
+  }
+  return res;
+}
+
+BezierHex elevate_degree(const BezierHex& hex, const std::array<int, 3>& new_degree) {
+  check(hex);
+  std::array<Eigen::MatrixXd, 3> E;
+  for (int d = 0; d < 3; ++d) E[d] = degree_elevation_matrix(hex.degree[d], new_degree[d]);
+  return map_coefficients(hex, E);
+}
+
+}  // namespace volts::bezier

@@ -1,0 +1,74 @@
+// volts::bezier — tensor-product (rational) Bézier hexahedra of any degrees (p,q,r): evaluation
+// with rational-correct Jacobians, sampled Jacobian quality, volume, degree elevation.
+// The element of isogeometric analysis after Bézier extraction (Borden et al. 2011; Liu et al.
+// 2013 §5.3). Parametric domain [0,1]^3 (as VTK's Bézier hexahedron).
+//
+// Every function taking a BezierHex throws core::InvalidInputError if it is malformed (see check()).
+#pragma once
+
+#include <Eigen/Dense>
+#include <array>
+#include <limits>
+#include <vector>
+
+#include "bezier/quadrature.h"
+
+namespace volts::bezier {
+
+struct BezierHex {
+  std::array<int, 3> degree{3, 3, 3};
+  /// Cartesian control points (not premultiplied by the weights), index(i,j,k) = i + (p+1)(j + (q+1)k).
+  std::vector<Eigen::Vector3d> points;
+  /// Positive weights, one per point; empty = polynomial (all 1).
+  std::vector<double> weights;
+
+  int num_points() const { return (degree[0] + 1) * (degree[1] + 1) * (degree[2] + 1); }
+  int index(int i, int j, int k) const { return i + (degree[0] + 1) * (j + (degree[1] + 1) * k); }
+  std::array<int, 3> ijk(int index) const {
+    const int a = degree[0] + 1, b = degree[1] + 1;
+    return {index % a, (index / a) % b, index / (a * b)};
+  }
+  bool is_rational() const { return !weights.empty(); }
+  double weight(int index) const { return weights.empty() ? 1.0 : weights[index]; }
+};
+
+/// Throws core::InvalidInputError unless every degree is >= 1, points.size() == num_points(),
+/// and weights is empty or of the same size with finite positive entries.
+void check(const BezierHex& hex);
+
+/// The point x(u,v,w). If `jacobian` is given it receives dx/d(u,v,w): columns d/du, d/dv, d/dw
+/// (quotient rule on the homogeneous map, so exact for rational hexes).
+Eigen::Vector3d evaluate(const BezierHex& hex, const Eigen::Vector3d& uvw, Eigen::Matrix3d* jacobian = nullptr);
+
+/// det(J) / (|J0| |J1| |J2|), in [-1,1]; 0 if a column vanishes (degenerate direction).
+double scaled_jacobian(const Eigen::Matrix3d& J);
+
+struct JacobianSample {
+  double min_scaled = 1.0;
+  double max_scaled = -1.0;
+  double min_det = std::numeric_limits<double>::infinity();
+  double max_det = -std::numeric_limits<double>::infinity();
+};
+
+/// Jacobian at the 8 corners and at the n^3 Gauss–Legendre points (n = gauss_points per
+/// direction, e.g. max degree + 1). A sample, not a certificate: det J may be negative elsewhere
+/// (certification needs the Bernstein coefficients of det J). Throws InvalidInputError if n < 1.
+JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points);
+
+/// ∫ det J over [0,1]^3 by n^3-point Gauss–Legendre (signed volume). Exact for polynomial hexes
+/// when 2n-1 >= the degree of det J in each direction (3p-1 for degree p: n = 5 for cubics).
+double volume(const BezierHex& hex, int gauss_points);
+
+/// Applies a linear map of Bézier coefficients along each direction: M[d] is (m_d+1) x (degree[d]+1)
+/// and the result has degrees m_d. Applied to homogeneous coordinates (w·P, w), so any map of
+/// Bernstein coefficients (degree elevation, extraction Cᵀ, de Casteljau subdivision) is exact for
+/// rational hexes. A polynomial hex stays polynomial; its maps must then have rows summing to 1.
+/// Throws InvalidInputError on mismatched sizes, a polynomial hex with a non-affine map, or
+/// non-positive resulting weights.
+BezierHex map_coefficients(const BezierHex& hex, const std::array<Eigen::MatrixXd, 3>& M);
+
+/// The same map in higher degrees (each new_degree[d] >= degree[d]); rational hexes are elevated
+/// in homogeneous coordinates (w·P, w), so the geometry is unchanged.
+BezierHex elevate_degree(const BezierHex& hex, const std::array<int, 3>& new_degree);
+
+}  // namespace volts::bezier
