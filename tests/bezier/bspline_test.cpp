@@ -124,8 +124,10 @@ TEST(BSpline, ExtractionOperatorsReproduceBasis) {
       // Columns sum to 1 (partition of unity in both bases).
       EXPECT_LT((ops[e].colwise().sum().array() - 1.0).abs().maxCoeff(), 1e-14);
       for (int s = 0; s < 10; ++s) {
-        const double x = s == 0 ? 0.0 : unit(rng);  // [0,1): the right end is the next element's
-        const double t = iv[e][0] + x * (iv[e][1] - iv[e][0]);
+        // Pick t in the element, then x from t (not the reverse: on a short element the rounding
+        // of t would be amplified by 1/(b-a) in x). [a,b): b belongs to the next element.
+        const double t = iv[e][0] + (s == 0 ? 0.0 : unit(rng)) * (iv[e][1] - iv[e][0]);
+        const double x = (t - iv[e][0]) / (iv[e][1] - iv[e][0]);
         const Eigen::VectorXd via_extraction = ops[e] * bernstein_basis(p, x);
         const BasisValues b = basis_functions(knots, p, t);
         ASSERT_EQ(b.span, spans[e]);

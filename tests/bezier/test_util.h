@@ -7,10 +7,10 @@
 
 namespace volts::bezier::testing {
 
-/// A random valid knot vector of degree p: random interior knots with multiplicities 1..p (so
-/// C^0 lines occur), clamped ends or (if !clamped) distinct random knots outside the domain.
+/// A random valid knot vector of degree p: random interior knots with multiplicities 1..p+1 (so
+/// C^0 lines and discontinuities occur), clamped ends or (if !clamped) distinct random knots outside the domain.
 inline std::vector<double> random_knots(std::mt19937& rng, int p, bool clamped) {
-  std::uniform_int_distribution<int> count(0, 5), mult(1, std::max(1, p));
+  std::uniform_int_distribution<int> count(0, 5), mult(1, p + 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<double> interior;
   const int distinct = count(rng);
