@@ -144,7 +144,7 @@ class TextProblems {
   /// Checks the coordinate tokens of vertex `index` (read from `line`).
   void vertex(std::size_t index, const std::vector<std::string_view>& coords, const Line& line) {
     const std::string name = "vertex " + std::to_string(index);
-    if (coords.size() < 3) return malformed(name + " has fewer than 3 coordinates", line, true);
+    if (coords.size() < 3) return malformed(name + ": fewer than 3 coordinates", line, true);
     for (std::size_t i = 0; i < 3; ++i) {
       const Number n = parse_number(coords[i]);
       if (n == Number::non_finite) return non_finite_.add([&] { return name + " (" + quote(line) + ")"; });
@@ -273,7 +273,11 @@ RawSoup parse_off(const std::string& path, const std::string& text) {
 
 // ---- OBJ ------------------------------------------------------------------------------------
 
-RawSoup parse_obj(const std::string& path, const std::string& text) {
+RawSoup parse_obj(const std::string& path, const std::string& text_in) {
+  // CGAL skips from one face index to the next up to a ' ' only, so "f 1\t2\t3" would lose two
+  // indices; tabs are plain whitespace in OBJ (and positions stay the same for messages).
+  std::string text = text_in;
+  std::replace(text.begin(), text.end(), '\t', ' ');
   std::istringstream in(text);
   RawSoup soup;
   const bool ok = CGAL::IO::read_OBJ(in, soup.points, soup.faces, CGAL::parameters::verbose(false));
@@ -287,16 +291,15 @@ RawSoup parse_obj(const std::string& path, const std::string& text) {
     if (!t.empty() && t[0] == "v") problems.vertex(vertices++, std::vector<std::string_view>(t.begin() + 1, t.end()), line);
   });
   problems.raise(path);
-  if (!only_blank_after(text, stop, true))
-    fail(path, "malformed or unsupported OBJ statement (" + quote(line_before(text, stop)) + ")");
   // CGAL also refuses, after reading everything, a file without vertices or faces or with a face
   // index beyond the vertices; the soup checks report those precisely. (Its bound is off by one:
   // index == number of vertices passes, the soup checks catch it.)
-  const bool explained = soup.faces.empty() || soup.points.empty() ||
-                         std::any_of(soup.faces.begin(), soup.faces.end(), [&](const Polygon& f) {
-                           return std::any_of(f.begin(), f.end(), [&](std::size_t v) { return v >= soup.points.size(); });
-                         });
-  if (!explained) fail(path, "malformed OBJ file: CGAL's reader refused it (" + quote(last_line(text)) + ")");
+  const bool explained = only_blank_after(text, stop, true) &&
+                         (soup.faces.empty() || soup.points.empty() ||
+                          std::any_of(soup.faces.begin(), soup.faces.end(), [&](const Polygon& f) {
+                            return std::any_of(f.begin(), f.end(), [&](std::size_t v) { return v >= soup.points.size(); });
+                          }));
+  if (!explained) fail(path, "malformed or unsupported OBJ statement (" + quote(line_before(text, stop)) + ")");
   return soup;
 }
 

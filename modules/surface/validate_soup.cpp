@@ -68,7 +68,7 @@ void check_soup_indices(const std::vector<Point>& points, const std::vector<Poly
   Tally small;
   for (std::size_t f = 0; f < faces.size(); ++f)
     if (faces[f].size() < 3)
-      small.add([&] { return "face " + std::to_string(f) + " (" + std::to_string(faces[f].size()) + " vertices)"; });
+      small.add([&] { return "face " + std::to_string(f) + " (" + count_of(faces[f].size(), "vertex", "vertices") + ")"; });
   if (small.count() > 0)
     fail(source, count_of(small.count(), "face", "faces") + " with fewer than 3 vertices, first is " +
                      small.first());

@@ -186,11 +186,29 @@ TEST(ReadSurface, OffCubeOfQuadsIsTriangulated) {
   EXPECT_EQ(info.triangulated_faces, 6u);
 }
 
+TEST(ReadSurface, NonConvexPolygonsAreTriangulated) {
+  // An L-shaped prism: two non-convex hexagonal caps (area 3) and six quads, height 1.
+  const Coords l = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
+  std::string text = "OFF\n12 8 0\n";
+  for (double z : {0.0, 1.0})
+    for (const auto& p : l) text += number(p[0]) + " " + number(p[1]) + " " + number(z) + "\n";
+  text += "6 5 4 3 2 1 0\n6 6 7 8 9 10 11\n";
+  for (std::size_t i = 0; i < 6; ++i) {
+    const std::size_t j = (i + 1) % 6;
+    text += "4 " + std::to_string(i) + " " + std::to_string(j) + " " + std::to_string(6 + j) + " " + std::to_string(6 + i) + "\n";
+  }
+  TempDir dir;
+  ReadInfo info;
+  const Mesh mesh = read_surface(dir.write("l.off", text), &info);
+  EXPECT_EQ(info.triangulated_faces, 8u);
+  expect_mesh(mesh, 12, 20, 3.0);
+}
+
 TEST(ReadSurface, ObjPyramidWithQuadBase) {
   TempDir dir;
   const std::string pyramid =
       "# square pyramid\nmtllib none.mtl\no pyramid\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n"
-      "vn 0 0 -1\nvt 0 0\ng base\nf 1//1 4//1 3//1 2//1\ng sides\ns off\nf 1/1 2/1 5/1\nf 2 3 5\nf 3 4 5\nf -2 -5 -1\n";
+      "vn 0 0 -1\nvt 0 0\ng base\nf 1//1 4//1 3//1 2//1\ng sides\ns off\nf 1/1 2/1 5/1\nf 2\t3\t5\nf 3 4 5\nf -2 -5 -1\n";
   ReadInfo info;
   const Mesh mesh = read_surface(dir.write("pyramid.obj", pyramid), &info);
   expect_mesh(mesh, 5, 6, 1.0 / 3.0);
