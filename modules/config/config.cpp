@@ -1,0 +1,190 @@
+#include "config/config.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+
+namespace volts::config {
+namespace {
+
+// A mapping whose keys are checked: get() marks keys as known; finish() rejects the rest.
+class Section {
+ public:
+  Section(YAML::Node node, std::string path, const std::string& source) : node_(node), path_(std::move(path)), source_(source) {
+    if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) fail(path_.empty() ? "the config must be a mapping" : "must be a mapping");
+  }
+
+  Section section(const std::string& key) {
+    known_.insert(key);
+    return Section(child(key), join(key), source_);
+  }
+
+  void get(const std::string& key, std::string& value, const std::set<std::string>& allowed = {}) {
+    YAML::Node n = lookup(key);
+    if (!n.IsDefined()) return;
+    if (!n.IsScalar()) fail_key(key, "must be a string");
+    value = n.as<std::string>();
+    if (!allowed.empty() && !allowed.count(value)) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail_key(key, "'" + value + "' is not one of: " + list);
+    }
+  }
+
+  void get(const std::string& key, int& value, int lo, int hi) {
+    YAML::Node n = lookup(key);
+    if (!n.IsDefined()) return;
+    try {
+      value = n.as<int>();
+    } catch (const YAML::Exception&) {
+      fail_key(key, "must be an integer, got '" + scalar(n) + "'");
+    }
+    if (value < lo || value > hi) fail_key(key, std::to_string(value) + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+
+  void get(const std::string& key, double& value, double lo, double hi) {
+    YAML::Node n = lookup(key);
+    if (!n.IsDefined()) return;
+    try {
+      value = n.as<double>();
+    } catch (const YAML::Exception&) {
+      fail_key(key, "must be a number, got '" + scalar(n) + "'");
+    }
+    if (!(value >= lo && value <= hi)) {
+      std::ostringstream s;
+      s << value << " is out of range [" << lo << ", " << hi << "]";
+      fail_key(key, s.str());
+    }
+  }
+
+  void finish() const {
+    if (!node_.IsDefined() || !node_.IsMap()) return;
+    for (const auto& kv : node_) {
+      const std::string k = kv.first.as<std::string>();
+      if (!known_.count(k)) {
+        std::string list;
+        for (const auto& a : known_) list += (list.empty() ? "" : ", ") + a;
+        throw core::ConfigError(source_ + ": unknown key '" + join(k) + "'" + (list.empty() ? "" : " (known here: " + list + ")"));
+      }
+    }
+  }
+
+ private:
+  // Const access: yaml-cpp's non-const operator[] would insert the missing key.
+  YAML::Node child(const std::string& key) const {
+    if (!node_.IsDefined() || !node_.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+    const YAML::Node& c = node_;
+    return c[key];
+  }
+  YAML::Node lookup(const std::string& key) {
+    known_.insert(key);
+    YAML::Node n = child(key);
+    if (n.IsDefined() && n.IsNull()) fail_key(key, "has no value");
+    return n;
+  }
+  static std::string scalar(const YAML::Node& n) { return n.IsScalar() ? n.Scalar() : "<not a scalar>"; }
+  std::string join(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  [[noreturn]] void fail(const std::string& what) const { throw core::ConfigError(source_ + ": " + (path_.empty() ? "" : path_ + ": ") + what); }
+  [[noreturn]] void fail_key(const std::string& key, const std::string& what) const {
+    throw core::ConfigError(source_ + ": " + join(key) + ": " + what);
+  }
+
+  YAML::Node node_;
+  std::string path_;
+  const std::string& source_;
+  std::set<std::string> known_;
+};
+
+Config bind_config(const YAML::Node& root, const std::string& source) {
+  Config c;
+  c.source = source;
+  Section top(root, "", source);
+  top.get("route", c.route, {"polycube"});
+  {
+    Section s = top.section("input");
+    s.get("file", c.input.file);
+    s.get("generate", c.input.generate);
+    s.get("resolution", c.input.resolution, 4, 512);
+    s.get("bulge", c.input.bulge, 0.0, 0.35);
+    s.finish();
+    if (!c.input.file.empty() && !c.input.generate.empty())
+      throw core::ConfigError(source + ": input: give either 'file' or 'generate', not both");
+  }
+  {
+    Section s = top.section("classify");
+    s.get("sharp_angle_deg", c.classify.sharp_angle_deg, 1.0, 179.0);
+    s.get("corner_angle_deg", c.classify.corner_angle_deg, 1.0, 179.0);
+    s.finish();
+  }
+  top.section("split").finish();
+  {
+    Section s = top.section("polycube");
+    s.get("weights", c.polycube.weights, {"mean-value", "uniform"});
+    s.finish();
+  }
+  {
+    Section s = top.section("tmesh");
+    s.get("level", c.tmesh.level, 1, 7);
+    s.get("degree", c.tmesh.degree, 1, 5);
+    s.finish();
+  }
+  {
+    Section s = top.section("extract");
+    s.get("gauss_points", c.extract.gauss_points, 0, 10);
+    s.get("boundary_samples", c.extract.boundary_samples, 2, 64);
+    s.finish();
+  }
+  top.finish();
+  return c;
+}
+
+}  // namespace
+
+Config parse_config(const std::string& text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw core::ConfigError(source + ": not valid YAML (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
+  }
+  return bind_config(root, source);
+}
+
+Config load_config(const std::string& path) {
+  Config c = parse_config(core::read_text_file(path), path);
+  if (!c.input.file.empty() && std::filesystem::path(c.input.file).is_relative())
+    c.input.file = (std::filesystem::path(path).parent_path() / c.input.file).lexically_normal().string();
+  return c;
+}
+
+std::string to_yaml(const Config& c) {
+  YAML::Emitter e;
+  e << YAML::BeginMap;
+  e << YAML::Key << "route" << YAML::Value << c.route;
+  e << YAML::Key << "input" << YAML::Value << YAML::BeginMap;
+  if (!c.input.file.empty()) e << YAML::Key << "file" << YAML::Value << c.input.file;
+  if (!c.input.generate.empty()) e << YAML::Key << "generate" << YAML::Value << c.input.generate;
+  e << YAML::Key << "resolution" << YAML::Value << c.input.resolution;
+  e << YAML::Key << "bulge" << YAML::Value << c.input.bulge << YAML::EndMap;
+  e << YAML::Key << "classify" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "sharp_angle_deg" << YAML::Value << c.classify.sharp_angle_deg;
+  e << YAML::Key << "corner_angle_deg" << YAML::Value << c.classify.corner_angle_deg << YAML::EndMap;
+  e << YAML::Key << "split" << YAML::Value << YAML::BeginMap << YAML::EndMap;
+  e << YAML::Key << "polycube" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "weights" << YAML::Value << c.polycube.weights << YAML::EndMap;
+  e << YAML::Key << "tmesh" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "level" << YAML::Value << c.tmesh.level;
+  e << YAML::Key << "degree" << YAML::Value << c.tmesh.degree << YAML::EndMap;
+  e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
+  e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples << YAML::EndMap;
+  e << YAML::EndMap;
+  return std::string(e.c_str()) + "\n";
+}
+
+}  // namespace volts::config

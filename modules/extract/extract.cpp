@@ -1,0 +1,105 @@
+#include "extract/extract.h"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "bezier/bspline.h"
+#include "bezier/bspline_volume.h"
+#include "bezier/vtk_bezier.h"
+#include "core/errors.h"
+#include "core/log.h"
+
+namespace volts::extract {
+
+using surface::Mesh;
+using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<surface::Kernel, Primitive>>;
+
+Result extract(const tmesh::TMesh& t, const Mesh& surface, const Params& params) {
+  if (params.gauss_points < 0 || params.gauss_points > 10) throw core::ConfigError("extract.gauss_points must be in [0, 10]");
+  if (params.boundary_samples < 2 || params.boundary_samples > 64) throw core::ConfigError("extract.boundary_samples must be in [2, 64]");
+  Result r;
+  r.degree = t.degree;
+  {
+    core::LogSection s("Bézier extraction");
+    bezier::TensorBSplineVolume vol;
+    vol.degree = {t.degree, t.degree, t.degree};
+    vol.knots = t.knots;
+    for (const auto& p : t.control_points) vol.points.emplace_back(p[0], p[1], p[2]);
+    r.hexes = bezier::extract_bezier_hexes(vol);
+  }
+  const int ne = static_cast<int>(r.hexes.size());
+  const int gp = params.gauss_points > 0 ? params.gauss_points : t.degree + 1;
+  {
+    core::LogSection s("scaled Jacobian at corners and Gauss points");
+    r.min_scaled = 1, r.max_scaled = -1;
+    for (const auto& h : r.hexes) {
+      const auto js = bezier::sample_jacobian(h, gp);
+      r.min_scaled_jacobian.push_back(js.min_scaled);
+      r.max_scaled_jacobian.push_back(js.max_scaled);
+      r.min_scaled = std::min(r.min_scaled, js.min_scaled);
+      r.max_scaled = std::max(r.max_scaled, js.max_scaled);
+    }
+  }
+  {
+    core::LogSection s("boundary deviation and volume");
+    Tree tree(faces(surface).first, faces(surface).second, surface);
+    tree.accelerate_distance_queries();
+    const CGAL::Bbox_3 bb = tree.bbox();
+    const double diag = std::sqrt(std::pow(bb.xmax() - bb.xmin(), 2) + std::pow(bb.ymax() - bb.ymin(), 2) + std::pow(bb.zmax() - bb.zmin(), 2));
+    // Elements are ordered i fastest over the tensor grid of knot spans; boundary faces are those
+    // on the first or last span in some direction.
+    const int n[3] = {static_cast<int>(bezier::element_spans(t.knots[0], t.degree).size()),
+                      static_cast<int>(bezier::element_spans(t.knots[1], t.degree).size()),
+                      static_cast<int>(bezier::element_spans(t.knots[2], t.degree).size())};
+    if (n[0] * n[1] * n[2] != ne) throw core::NumericalError("extract: element count does not match the knot spans");
+    const int m = params.boundary_samples;
+    double worst = 0;
+    r.boundary_distance.assign(ne, 0.0);
+    for (int e = 0; e < ne; ++e) {
+      const int idx[3] = {e % n[0], (e / n[0]) % n[1], e / (n[0] * n[1])};
+      for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+          if (idx[axis] != (side ? n[axis] - 1 : 0)) continue;
+          for (int a = 0; a < m; ++a)
+            for (int b = 0; b < m; ++b) {
+              Eigen::Vector3d uvw;
+              uvw[axis] = side;
+              uvw[(axis + 1) % 3] = double(a) / (m - 1);
+              uvw[(axis + 2) % 3] = double(b) / (m - 1);
+              const Eigen::Vector3d x = bezier::evaluate(r.hexes[e], uvw);
+              const double d = std::sqrt(tree.squared_distance(surface::Point(x[0], x[1], x[2])));
+              r.boundary_distance[e] = std::max(r.boundary_distance[e], d);
+            }
+          worst = std::max(worst, r.boundary_distance[e]);
+        }
+    }
+    r.hausdorff_rel = worst / diag;
+    const int vg = std::max({t.degree, 1}) + 2;
+    for (const auto& h : r.hexes) r.spline_volume += bezier::volume(h, vg);
+    r.surface_volume = CGAL::Polygon_mesh_processing::volume(surface);
+    r.volume_rel_error = std::abs(r.spline_volume - r.surface_volume) / std::abs(r.surface_volume);
+  }
+  return r;
+}
+
+core::Json report_figures(const Result& r) {
+  return core::Json{{"bezier_elements", r.hexes.size()},   {"degree", r.degree},
+                    {"min_scaled_jacobian", r.min_scaled}, {"max_scaled_jacobian", r.max_scaled},
+                    {"hausdorff_rel", r.hausdorff_rel},    {"volume_rel_error", r.volume_rel_error},
+                    {"spline_volume", r.spline_volume},    {"surface_volume", r.surface_volume}};
+}
+
+void write_bezier_vtu(const std::string& path, const Result& r) {
+  std::vector<bezier::CellArray> cells = {{"min_scaled_jacobian", 1, r.min_scaled_jacobian},
+                                          {"max_scaled_jacobian", 1, r.max_scaled_jacobian},
+                                          {"boundary_distance", 1, r.boundary_distance}};
+  bezier::write_bezier_vtu(path, r.hexes, cells);
+}
+
+}  // namespace volts::extract

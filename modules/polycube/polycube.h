@@ -1,0 +1,72 @@
+// volts::polycube — stage 3: the polycube and the map of the surface and the volume onto it
+// (Liu et al. 2013, §4.2–4.3).
+//
+// Implemented so far: one cube component (from split). Each quad patch is mapped onto its face of
+// the unit cube [0,1]^3 by a bijective disk map: its curves onto the cube edges by arc length (so the
+// two patches beside a curve agree on it), its interior by Floater's mean-value weights with that
+// convex boundary, which gives a one-to-one map (Floater 2003). The interior of the solid is mapped
+// by transfinite (Coons) interpolation of the six face maps. Unions, differences and tori (issue 6)
+// are not implemented yet.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "classify/classify.h"
+#include "core/stage_file.h"
+#include "split/split.h"
+#include "surface/surface.h"
+
+namespace volts::polycube {
+
+/// Parameters of map_surface().
+struct Params {
+  /// Interior weights of the disk map: "mean-value" (Floater 2003) or "uniform" (Tutte 1963).
+  std::string weights = "mean-value";
+};
+
+/// The polycube (so far one unit cube) and the surface map onto it.
+struct Polycube {
+  std::vector<std::array<int, 3>> corner_cube_coords;  ///< per classify corner: its cube corner (0/1 each)
+  std::vector<int> patch_face;                         ///< per patch: cube face 2*axis + side (side 1 = coordinate 1)
+  std::vector<std::array<double, 3>> vertex_uvw;       ///< per surface vertex: its image on the cube surface
+  int flipped_surface_triangles = 0;                   ///< mapped triangles with non-positive orientation
+  double max_angle_distortion_deg = 0;                 ///< max |angle on cube - angle on surface| over triangle corners
+};
+
+/// Maps the surface of a box-like decomposition onto the unit cube. Throws core::TopologyError if
+/// the patch and corner structure is not that of a cube, core::NumericalError if a solve fails.
+Polycube map_surface(const surface::Mesh& mesh, const classify::Classification& c, const split::Decomposition& d,
+                     const Params& params);
+
+/// The volume map: parameter point of the cube -> physical point, by transfinite interpolation of
+/// the six face maps. Face maps are inverted by closest-point queries in an AABB tree of each
+/// face's mapped triangles (CGAL), so points on cube edges and faces are handled exactly.
+class VolumeMap {
+ public:
+  VolumeMap(const surface::Mesh& mesh, const classify::Classification& c, const Polycube& p);
+  ~VolumeMap();
+  VolumeMap(VolumeMap&&) noexcept;
+  /// Physical position of the parameter point uvw in [0,1]^3.
+  std::array<double, 3> operator()(const std::array<double, 3>& uvw) const;
+  /// Physical position of a point on cube face `face` (2*axis+side) at in-face coordinates (s, t)
+  /// = the coordinates of axes (axis+1)%3 and (axis+2)%3.
+  std::array<double, 3> on_face(int face, double s, double t) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+core::Json to_json(const Polycube& p);
+Polycube from_json(const core::Json& j, const std::string& file);
+core::Json report_figures(const Polycube& p, const split::Decomposition& d);
+
+/// ParaView views: the surface with its cube coordinates as a point field `uvw` and the face id, and
+/// the same triangles drawn at their cube positions (the mapped surface).
+void write_vtp(const std::string& path, const surface::Mesh& mesh, const classify::Classification& c, const Polycube& p);
+void write_mapped_vtp(const std::string& path, const surface::Mesh& mesh, const classify::Classification& c, const Polycube& p);
+
+}  // namespace volts::polycube

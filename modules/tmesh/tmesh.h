@@ -1,0 +1,54 @@
+// volts::tmesh — stage 4: the T-mesh, i.e. the control mesh of the volumetric spline (Liu et al.
+// 2013, §5.1–5.2).
+//
+// Implemented so far: a uniform octree of a given level on the one cube of the polycube, whose
+// control mesh is the tensor grid of a clamped cubic B-spline. Control points are chosen so that the
+// spline interpolates the polycube volume map at the Greville points; the boundary rows of control
+// points then interpolate the surface map, which keeps the spline boundary on the input surface to
+// the interpolation error. Adaptive refinement, T-junctions, sharp-feature knots, pillowing,
+// smoothing and optimization are issue 7.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/stage_file.h"
+#include "polycube/polycube.h"
+
+namespace volts::tmesh {
+
+/// Parameters of build().
+struct Params {
+  int level = 3;   ///< uniform octree level: 2^level elements along each cube edge [1, 7]
+  int degree = 3;  ///< spline degree in each direction [1, 5]
+};
+
+/// A tensor-product control mesh (the T-mesh of one cube without T-junctions yet).
+struct TMesh {
+  int level = 0;
+  int degree = 3;
+  std::array<std::vector<double>, 3> knots;            ///< clamped knot vectors on [0,1]
+  std::array<int, 3> size{0, 0, 0};                    ///< control points per direction
+  std::vector<std::array<double, 3>> control_points;   ///< index i + size0*(j + size1*k)
+  std::vector<std::array<double, 3>> parameters;       ///< Greville point of each control point
+  int elements() const;
+};
+
+/// Builds the control mesh by interpolating `map` at the Greville points. Throws core::ConfigError
+/// for parameters out of range.
+TMesh build(const polycube::VolumeMap& map, const Params& params);
+
+/// Scaled Jacobian of a trilinear hexahedron at its 8 corners (Liu et al. eq. (1)–(2)); corners in
+/// VTK order. Returns the minimum.
+double trilinear_min_scaled_jacobian(const std::array<std::array<double, 3>, 8>& x);
+
+core::Json to_json(const TMesh& t);
+TMesh from_json(const core::Json& j, const std::string& file);
+core::Json report_figures(const TMesh& t, double min_scaled_jacobian);
+
+/// ParaView view: the octree elements as trilinear hexes at their mapped corners, with `level` and
+/// `scaled_jacobian` per cell. Returns the minimum scaled Jacobian of these elements.
+double write_vtu(const std::string& path, const TMesh& t, const polycube::VolumeMap& map);
+
+}  // namespace volts::tmesh

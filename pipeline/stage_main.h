@@ -1,0 +1,37 @@
+// Shared command line and error handling of the stage executables (volts-classify ... volts-extract).
+// Each executable is a thin main() that calls run_stage() with its body.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "config/config.h"
+#include "core/stage_file.h"
+
+namespace volts::pipeline {
+
+/// Stage names, in order; these are contracts (config sections, --from/--to, report keys).
+inline const char* const kStages[] = {"classify", "split", "polycube", "tmesh", "extract"};
+
+/// File names inside the work directory.
+std::string stage_file(const std::string& workdir, const std::string& stage);  ///< DIR/<stage>.stage.json
+
+struct StageContext {
+  std::string stage;
+  std::string workdir = ".";
+  std::string input;   ///< --input: overrides the default input file
+  std::string output;  ///< --output: overrides DIR/<stage>.stage.json
+  config::Config config;
+  std::string path(const std::string& name) const;  ///< DIR/name
+  std::string input_file(const std::string& previous_stage) const;
+  std::string output_file() const;
+};
+
+/// Parses `--config FILE --workdir DIR --input FILE --output FILE -v -q --help`, runs `body`, records
+/// time_s and the body's figures in DIR/report.json, and turns every volts error into
+/// "volts-STAGE: error: ..." on stderr with its exit code. `help` is the stage's one-paragraph
+/// description for --help.
+int run_stage(int argc, char** argv, const std::string& stage, const std::string& help,
+              const std::function<core::Json(StageContext&)>& body);
+
+}  // namespace volts::pipeline

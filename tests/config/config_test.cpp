@@ -1,0 +1,73 @@
+// The YAML config: defaults, every documented key, and clear errors naming the key path.
+#include <gtest/gtest.h>
+
+#include "config/config.h"
+#include "core/errors.h"
+
+using namespace volts;
+
+namespace {
+std::string config_error(const std::string& yaml) {
+  try {
+    config::parse_config(yaml, "test.yaml");
+  } catch (const core::ConfigError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+}  // namespace
+
+TEST(Config, DefaultYamlEqualsBuiltInDefaults) {
+  // configs/default.yaml documents every key with its default: it must parse and agree with the structs.
+  const config::Config file = config::load_config(std::string(VOLTS_SOURCE_DIR) + "/configs/default.yaml");
+  const config::Config builtin;
+  EXPECT_EQ(file.tmesh.level, builtin.tmesh.level);
+  EXPECT_EQ(file.tmesh.degree, builtin.tmesh.degree);
+  EXPECT_DOUBLE_EQ(file.classify.sharp_angle_deg, builtin.classify.sharp_angle_deg);
+  EXPECT_DOUBLE_EQ(file.classify.corner_angle_deg, builtin.classify.corner_angle_deg);
+  EXPECT_EQ(file.polycube.weights, builtin.polycube.weights);
+  EXPECT_EQ(file.extract.gauss_points, builtin.extract.gauss_points);
+  EXPECT_EQ(file.extract.boundary_samples, builtin.extract.boundary_samples);
+  EXPECT_EQ(file.input.resolution, builtin.input.resolution);
+  EXPECT_DOUBLE_EQ(file.input.bulge, builtin.input.bulge);
+}
+
+TEST(Config, ValuesAreRead) {
+  const auto c = config::parse_config("input: {generate: torus, resolution: 32}\ntmesh: {level: 5}\nclassify: {sharp_angle_deg: 45.5}\n", "t");
+  EXPECT_EQ(c.input.generate, "torus");
+  EXPECT_EQ(c.input.resolution, 32);
+  EXPECT_EQ(c.tmesh.level, 5);
+  EXPECT_DOUBLE_EQ(c.classify.sharp_angle_deg, 45.5);
+}
+
+TEST(Config, EmittedYamlParsesBackToTheSameConfig) {
+  const auto c = config::parse_config("input: {file: /x/y.obj}\ntmesh: {level: 4, degree: 2}\npolycube: {weights: uniform}\n", "t");
+  const auto d = config::parse_config(config::to_yaml(c), "emitted");
+  EXPECT_EQ(d.input.file, "/x/y.obj");
+  EXPECT_EQ(d.tmesh.level, 4);
+  EXPECT_EQ(d.tmesh.degree, 2);
+  EXPECT_EQ(d.polycube.weights, "uniform");
+}
+
+TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("test.yaml: unknown key 'tmesh.levle'"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, level"), std::string::npos);
+  EXPECT_NE(config_error("clasify: {}\n").find("unknown key 'clasify'"), std::string::npos);
+  EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
+}
+
+TEST(Config, WrongTypesAndRangesAreErrorsWithTheirPath) {
+  EXPECT_NE(config_error("tmesh: {level: three}\n").find("tmesh.level: must be an integer, got 'three'"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {level: 9}\n").find("tmesh.level: 9 is out of range [1, 7]"), std::string::npos);
+  EXPECT_NE(config_error("classify: {sharp_angle_deg: 0}\n").find("classify.sharp_angle_deg: 0 is out of range"), std::string::npos);
+  EXPECT_NE(config_error("classify: {sharp_angle_deg: .nan}\n").find("classify.sharp_angle_deg"), std::string::npos);
+  EXPECT_NE(config_error("route: magic\n").find("route: 'magic' is not one of: polycube"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: 3\n").find("tmesh: must be a mapping"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {level: }\n").find("tmesh.level: has no value"), std::string::npos);
+  EXPECT_NE(config_error("input: {file: a.obj, generate: box}\n").find("not both"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: [1, 2\n").find("not valid YAML"), std::string::npos);
+}
+
+TEST(Config, MissingFileIsInvalidInput) {
+  EXPECT_THROW(config::load_config("/nonexistent/volts.yaml"), core::InvalidInputError);
+}

@@ -1,0 +1,114 @@
+// Stage files and atomic writes: round trip, and every broken file is a clear InvalidInputError
+// that names the file; a failing writer leaves nothing behind.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+#include "core/stage_file.h"
+
+namespace fs = std::filesystem;
+using namespace volts;
+
+namespace {
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("volts_core_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+  std::size_t count() const { return static_cast<std::size_t>(std::distance(fs::directory_iterator(path), fs::directory_iterator())); }
+};
+
+void write_raw(const std::string& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+template <class E>
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  return "<no exception>";
+}
+
+}  // namespace
+
+TEST(StageFile, RoundTripKeepsDoublesExactly) {
+  TempDir d;
+  const std::vector<double> xs = {0.1, 1.0 / 3.0, -2.5e-300, 1e300, 3.141592653589793};
+  core::write_stage_file(d.file("a.stage.json"), "volts-test", 2, {{"xs", xs}});
+  const auto j = core::read_stage_file(d.file("a.stage.json"), "volts-test", 2);
+  EXPECT_EQ(j["xs"].get<std::vector<double>>(), xs);
+  EXPECT_EQ(j["version"].get<int>(), 2);
+  EXPECT_EQ(d.count(), 1u);  // no temporary left
+}
+
+TEST(StageFile, NewerVersionIsRefused) {
+  TempDir d;
+  core::write_stage_file(d.file("a.json"), "volts-test", 3, core::Json::object());
+  const auto m = message_of<core::InvalidInputError>([&] { core::read_stage_file(d.file("a.json"), "volts-test", 2); });
+  EXPECT_NE(m.find(d.file("a.json")), std::string::npos) << m;
+  EXPECT_NE(m.find("version 3 is newer"), std::string::npos) << m;
+}
+
+TEST(StageFile, WrongFormatIsRefused) {
+  TempDir d;
+  core::write_stage_file(d.file("a.json"), "volts-split", 1, core::Json::object());
+  const auto m = message_of<core::InvalidInputError>([&] { core::read_stage_file(d.file("a.json"), "volts-classify", 1); });
+  EXPECT_NE(m.find("is a volts-split file, expected volts-classify"), std::string::npos) << m;
+}
+
+TEST(StageFile, TruncatedEmptyMissingAndForeignFilesAreRefused) {
+  TempDir d;
+  core::write_stage_file(d.file("full.json"), "volts-test", 1, {{"xs", std::vector<int>(100, 7)}});
+  const std::string text = core::read_text_file(d.file("full.json"));
+  write_raw(d.file("cut.json"), text.substr(0, text.size() / 2));
+  write_raw(d.file("empty.json"), "");
+  write_raw(d.file("foreign.json"), "{\"hello\": 1}");
+  write_raw(d.file("noversion.json"), "{\"format\": \"volts-test\"}");
+  struct Case { std::string file, expect; };
+  for (const Case& c : {Case{"cut.json", "truncated or malformed"}, Case{"empty.json", "file is empty"},
+                        Case{"foreign.json", "not a volts stage file"}, Case{"noversion.json", "no integer \"version\""},
+                        Case{"missing.json", "cannot open file"}}) {
+    const auto m = message_of<core::InvalidInputError>([&] { core::read_stage_file(d.file(c.file), "volts-test", 1); });
+    EXPECT_NE(m.find(d.file(c.file)), std::string::npos) << m;
+    EXPECT_NE(m.find(c.expect), std::string::npos) << c.file << ": " << m;
+  }
+}
+
+TEST(AtomicFile, FailingWriterLeavesNothing) {
+  TempDir d;
+  EXPECT_THROW(core::write_atomically(d.file("out.txt"),
+                                      [](const std::string& tmp) {
+                                        std::ofstream(tmp) << "half";
+                                        throw core::NumericalError("boom");
+                                      }),
+               core::NumericalError);
+  EXPECT_EQ(d.count(), 0u);
+}
+
+TEST(AtomicFile, ReplacesExistingFileWhole) {
+  TempDir d;
+  core::write_text_atomically(d.file("out.txt"), "first");
+  core::write_text_atomically(d.file("out.txt"), "second");
+  EXPECT_EQ(core::read_text_file(d.file("out.txt")), "second");
+  EXPECT_EQ(d.count(), 1u);
+}
+
+TEST(Report, StagesAccumulate) {
+  TempDir d;
+  core::update_report(d.path.string(), "classify", {{"corners", 8}});
+  core::update_report(d.path.string(), "extract", {{"bezier_elements", 512}});
+  core::update_report(d.path.string(), "classify", {{"corners", 9}});
+  const auto r = core::read_report(d.path.string());
+  EXPECT_EQ(r["stages"]["classify"]["corners"].get<int>(), 9);
+  EXPECT_EQ(r["stages"]["extract"]["bezier_elements"].get<int>(), 512);
+}

@@ -1,0 +1,203 @@
+// The pipeline as a user runs it: `volts run` on the walking skeleton (bulged box, octree level 3),
+// resuming with --from, and every stage executable on broken input: a clear message naming the
+// file, a non-zero exit code, and no output written.
+#include <gtest/gtest.h>
+
+#include <vtkCellData.h>
+#include <vtkPointData.h>
+#include <vtkNew.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+#include "core/atomic_file.h"
+#include "core/stage_file.h"
+
+namespace fs = std::filesystem;
+using namespace volts;
+
+namespace {
+
+struct Outcome {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Outcome run(const std::string& cmd) {
+  Outcome r;
+  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  while (std::fgets(buf.data(), buf.size(), p)) r.output += buf.data();
+  const int status = ::pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string bin(const std::string& tool) { return std::string(VOLTS_BIN_DIR) + "/" + tool; }
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("volts_pipeline_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+std::size_t files_in(const fs::path& d) {
+  return static_cast<std::size_t>(std::distance(fs::directory_iterator(d), fs::directory_iterator()));
+}
+
+}  // namespace
+
+// The walking skeleton of issue 2, end to end, once for the whole suite (it takes a few seconds).
+class Skeleton : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir = fresh_dir("skeleton");
+    write(dir / "run.yaml", "input: {generate: bulged-box, resolution: 16}\ntmesh: {level: 3}\n");
+    result = run(bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string());
+  }
+  static fs::path dir;
+  static Outcome result;
+};
+fs::path Skeleton::dir;
+Outcome Skeleton::result;
+
+TEST_F(Skeleton, RunSucceedsAndReportsTheFigures) {
+  ASSERT_EQ(result.code, 0) << result.output;
+  EXPECT_NE(result.output.find("volts summary"), std::string::npos);
+  EXPECT_NE(result.output.find("open in ParaView: "), std::string::npos);
+  const auto r = core::read_report((dir / "work").string());
+  const auto& s = r["stages"];
+  for (const char* st : {"classify", "split", "polycube", "tmesh", "extract"}) {
+    ASSERT_TRUE(s.contains(st)) << st;
+    EXPECT_GE(s[st]["time_s"].get<double>(), 0.0);
+  }
+  EXPECT_EQ(s["classify"]["corners"], 8);
+  EXPECT_EQ(s["classify"]["curves"], 12);
+  EXPECT_EQ(s["classify"]["patches"], 6);
+  EXPECT_EQ(s["polycube"]["flipped_surface_triangles"], 0);
+  EXPECT_EQ(s["extract"]["bezier_elements"], 512);
+  EXPECT_EQ(s["extract"]["degree"], 3);
+  EXPECT_GT(s["extract"]["min_scaled_jacobian"].get<double>(), 0.3);
+  EXPECT_LE(s["extract"]["max_scaled_jacobian"].get<double>(), 1.0 + 1e-12);
+  EXPECT_LT(s["extract"]["hausdorff_rel"].get<double>(), 0.01);
+  EXPECT_LT(s["extract"]["volume_rel_error"].get<double>(), 0.01);
+}
+
+TEST_F(Skeleton, BezierVtuLoadsInVtkWith512CellsOfType79) {
+  ASSERT_EQ(result.code, 0) << result.output;
+  const fs::path vtu = dir / "work" / "bezier.vtu";
+  const std::string text = core::read_text_file(vtu.string());
+  EXPECT_NE(text.find("version=\"2.2\""), std::string::npos);
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(vtu.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* g = reader->GetOutput();
+  ASSERT_EQ(g->GetNumberOfCells(), 512);
+  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c) ASSERT_EQ(g->GetCellType(c), 79);
+  EXPECT_NE(g->GetCellData()->GetArray("HigherOrderDegrees"), nullptr);
+  EXPECT_NE(g->GetPointData()->GetArray("RationalWeights"), nullptr);
+  EXPECT_NE(g->GetCellData()->GetArray("min_scaled_jacobian"), nullptr);
+}
+
+TEST_F(Skeleton, EveryStageWroteItsFileAndAParaViewFile) {
+  ASSERT_EQ(result.code, 0) << result.output;
+  for (const char* f : {"classify.stage.json", "classify.vtp", "split.stage.json", "split.vtp", "polycube.stage.json",
+                        "polycube.vtp", "polycube_mapped.vtp", "tmesh.stage.json", "tmesh.vtu", "bezier.vtu", "report.json", "config.yaml"})
+    EXPECT_TRUE(fs::exists(dir / "work" / f)) << f;
+  for (const auto& e : fs::directory_iterator(dir / "work"))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "temporary file left: " << e.path();
+}
+
+TEST_F(Skeleton, ResumeFromExtractReusesEarlierFiles) {
+  ASSERT_EQ(result.code, 0) << result.output;
+  const fs::path w = dir / "work";
+  std::map<std::string, fs::file_time_type> before;
+  for (const char* f : {"classify.stage.json", "split.stage.json", "polycube.stage.json", "tmesh.stage.json"})
+    before[f] = fs::last_write_time(w / f);
+  const auto vtu_before = fs::last_write_time(w / "bezier.vtu");
+  const Outcome again = run(bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + w.string() + " --from extract");
+  ASSERT_EQ(again.code, 0) << again.output;
+  for (const auto& [f, t] : before) EXPECT_EQ(fs::last_write_time(w / f), t) << f << " was rewritten";
+  EXPECT_GT(fs::last_write_time(w / "bezier.vtu"), vtu_before);
+  EXPECT_EQ(again.output.find("stage classify"), std::string::npos);
+  // The report still has the earlier stages' figures.
+  EXPECT_TRUE(core::read_report(w.string())["stages"].contains("classify"));
+}
+
+TEST(Pipeline, ResumeWithoutEarlierFilesNamesTheMissingFile) {
+  const fs::path d = fresh_dir("resume_missing");
+  write(d / "run.yaml", "input: {generate: box}\n");
+  const Outcome r = run(bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string() + " --from tmesh");
+  EXPECT_EQ(r.code, 4) << r.output;
+  EXPECT_NE(r.output.find("polycube.stage.json: missing"), std::string::npos) << r.output;
+}
+
+TEST(Pipeline, UnknownConfigKeyStopsBeforeAnyStage) {
+  const fs::path d = fresh_dir("badkey");
+  write(d / "run.yaml", "input: {generate: box}\ntmesh: {levle: 3}\n");
+  const Outcome r = run(bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_NE(r.output.find("unknown key 'tmesh.levle'"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "w" / "classify.stage.json"));
+}
+
+// Broken surface inputs through volts-classify: message names the file and the problem, exit code
+// 4 (invalid input), and the work directory stays empty.
+TEST(Pipeline, BrokenSurfacesAreRefusedAndNothingIsWritten) {
+  const fs::path d = fresh_dir("broken");
+  struct Case { std::string name, content, expect; };
+  const std::vector<Case> cases = {
+      {"open.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n", "boundary edge"},
+      {"nan.off", "OFF\n4 4 0\n0 0 0\n1 0 0\nnan 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n", "finite"},
+      {"empty.off", "", "empty"},
+      {"truncated.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1", ""},
+      {"nonmanifold.off",
+       "OFF\n5 6 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 0 -1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n3 0 1 4\n3 1 0 4\n", "manifold"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    write(d / c.name, c.content);
+    const fs::path w = d / ("w_" + c.name);
+    const Outcome r = run(bin("volts-classify") + " --input " + (d / c.name).string() + " --workdir " + w.string());
+    EXPECT_EQ(r.code, 4) << r.output;
+    EXPECT_NE(r.output.find((d / c.name).string()), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
+    EXPECT_TRUE(!fs::exists(w) || files_in(w) == 0) << "output written for broken input";
+  }
+}
+
+TEST(Pipeline, WrongStageFileVersionIsRefused) {
+  const fs::path d = fresh_dir("version");
+  core::write_stage_file((d / "classify.stage.json").string(), "volts-classify", 99, core::Json::object());
+  const Outcome r = run(bin("volts-split") + " --workdir " + d.string());
+  EXPECT_EQ(r.code, 4) << r.output;
+  EXPECT_NE(r.output.find("version 99 is newer"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "split.stage.json"));
+}
+
+TEST(Pipeline, SplitRefusesANonBoxSurfaceWithATopologyError) {
+  const fs::path d = fresh_dir("torus_split");
+  write(d / "run.yaml", "input: {generate: torus}\n");
+  const Outcome r = run(bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
+  EXPECT_EQ(r.code, 5) << r.output;
+  EXPECT_NE(r.output.find("not box-like (genus 1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--from split"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "w" / "split.stage.json"));
+}
+
+TEST(Pipeline, EveryExecutableHasHelp) {
+  for (const char* t : {"volts", "volts-classify", "volts-split", "volts-polycube", "volts-tmesh", "volts-extract", "volts-make-model"}) {
+    const Outcome r = run(bin(t) + " --help");
+    EXPECT_EQ(r.code, 0) << t;
+    EXPECT_NE(r.output.find("usage"), std::string::npos) << t << ": " << r.output;
+  }
+}
