@@ -1,7 +1,8 @@
 // Format parsers. CGAL's readers do the parsing; what is hand-written here is what they lack:
 // they answer only true/false, cannot parse "nan"/"inf" (libstdc++'s operator>> refuses them),
-// and some accept broken files or misbehave on them (see each parser). So a refused file is
-// re-scanned here to say what is wrong and where, and a few sizes are checked before CGAL sees them.
+// allocate whatever sizes a file announces, and some accept broken files or misbehave on them (see
+// each parser). So sizes are checked before CGAL reads, and a refused file is re-scanned to say
+// what is wrong and where.
 #include <CGAL/IO/OBJ.h>
 #include <CGAL/IO/OFF.h>
 #include <CGAL/IO/PLY.h>
@@ -55,6 +56,11 @@ Line line_at(std::string_view text, std::size_t pos) {
 
 /// The line of the byte before `pos`: readers that consume whole lines stop just after the bad one.
 Line line_before(std::string_view text, std::size_t pos) { return line_at(text, pos == 0 ? 0 : pos - 1); }
+
+/// True if `line` is the file's unterminated last line, the mark of a file cut mid-line.
+bool cut_mid_line(const Line& line, std::string_view text) {
+  return line.text.data() + line.text.size() == text.data() + text.size() && !line.text.empty();
+}
 
 /// The last line that is not blank.
 Line last_line(std::string_view text) {
@@ -138,19 +144,20 @@ bool parse_integer(std::string_view token, long long& value) {
   return r.ec == std::errc() && r.ptr == token.data() + token.size();
 }
 
-/// What a re-scan of a refused text file found; raise() throws for the most fundamental problem.
+/// Problems found while scanning a text file; raise() throws for the most fundamental one.
 class TextProblems {
  public:
+  explicit TextProblems(std::string_view text) : text_(text) {}
+
   /// Checks the coordinate tokens of vertex `index` (read from `line`).
   void vertex(std::size_t index, const std::vector<std::string_view>& coords, const Line& line) {
     const std::string name = "vertex " + std::to_string(index);
-    if (coords.size() < 3) return malformed(name + ": fewer than 3 coordinates", line, true);
+    if (coords.size() < 3) return short_line(name + ": fewer than 3 coordinates", line);
     for (std::size_t i = 0; i < 3; ++i) {
       const Number n = parse_number(coords[i]);
       if (n == Number::non_finite) return non_finite_.add([&] { return name + " (" + quote(line) + ")"; });
-      if (n == Number::invalid) return malformed(name + ": '" + std::string(coords[i]) + "' is not a number", line, false);
+      if (n == Number::invalid) return malformed(name + ": '" + std::string(coords[i]) + "' is not a number", line);
     }
-    incomplete_last_ = false;
   }
   void index_out_of_range(std::size_t face, long long index, std::size_t vertices, const Line& line) {
     out_of_range_.add([&] {
@@ -158,13 +165,15 @@ class TextProblems {
              count_of(vertices, "vertex", "vertices") + "; " + quote(line) + ")";
     });
   }
-  /// `incomplete`: the line ends too early, which on the last line means the file was cut.
-  void malformed(const std::string& what, const Line& line, bool incomplete) {
+  void malformed(const std::string& what, const Line& line) {
     if (malformed_.empty()) malformed_ = "malformed " + what + " (" + quote(line) + ")";
-    incomplete_last_ = incomplete;
   }
-  void line_ok() { incomplete_last_ = false; }
-  bool last_line_incomplete() const { return incomplete_last_; }
+  /// A line with too few entries: malformed, or the file's unterminated last line (the file was cut).
+  void short_line(const std::string& what, const Line& line) {
+    malformed(what, line);
+    cut_ = cut_ || cut_mid_line(line, text_);
+  }
+  bool file_cut() const { return cut_; }
 
   void raise_non_finite(const std::string& path) const {
     if (non_finite_.count() > 0)
@@ -180,18 +189,21 @@ class TextProblems {
   }
 
  private:
+  std::string_view text_;
   Tally non_finite_, out_of_range_;
   std::string malformed_;
-  bool incomplete_last_ = false;
+  bool cut_ = false;
 };
 
 // ---- OFF ------------------------------------------------------------------------------------
 
-/// Re-scans an OFF file CGAL refused. Data lines are the non-blank, non-comment lines after the
-/// header: nv vertices, then nf faces.
-[[noreturn]] void diagnose_off(const std::string& path, const std::string& text, std::size_t header_end,
-                               std::size_t nv, std::size_t nf, std::size_t stop) {
-  TextProblems problems;
+/// Hand-written pre-check of the data lines (the non-blank, non-comment lines after the header:
+/// nv vertices, then nf faces), run before CGAL reads them: CGAL allocates every array a count
+/// announces (header or face line) before reading it, so a truncated or corrupt file could make
+/// it allocate gigabytes, and it reports no problem beyond "false".
+void check_off_lines(const std::string& path, const std::string& text, std::size_t header_end, std::size_t nv,
+                     std::size_t nf) {
+  TextProblems problems(text);
   std::size_t items = 0;
   const std::size_t data_begin = text.find('\n', header_end);
   if (data_begin != npos)
@@ -204,16 +216,15 @@ class TextProblems {
         const std::size_t face = items - nv;
         long long n = 0;
         if (!parse_integer(t[0], n) || n < 0) {
-          problems.malformed("face " + std::to_string(face) + ": '" + std::string(t[0]) + "' is not a vertex count", line, false);
+          problems.malformed("face " + std::to_string(face) + ": '" + std::string(t[0]) + "' is not a vertex count", line);
         } else if (t.size() < static_cast<std::size_t>(n) + 1) {
-          problems.malformed("face " + std::to_string(face) + ": " + std::to_string(n) + " vertex indices announced, " +
-                                 std::to_string(t.size() - 1) + " given", line, true);
+          problems.short_line("face " + std::to_string(face) + ": " + std::to_string(n) + " vertex indices announced, " +
+                                  std::to_string(t.size() - 1) + " given", line);
         } else {
-          problems.line_ok();
           for (std::size_t k = 1; k <= static_cast<std::size_t>(n); ++k) {
             long long index = 0;
             if (!parse_integer(t[k], index)) {
-              problems.malformed("face " + std::to_string(face) + ": '" + std::string(t[k]) + "' is not a vertex index", line, false);
+              problems.malformed("face " + std::to_string(face) + ": '" + std::string(t[k]) + "' is not a vertex index", line);
               break;
             }
             if (index < 0 || static_cast<std::size_t>(index) >= nv) {
@@ -226,14 +237,13 @@ class TextProblems {
       ++items;
     });
   problems.raise_non_finite(path);
-  if (items < nv + nf || problems.last_line_incomplete()) {
+  if (items < nv + nf || problems.file_cut()) {
     const std::string read = items <= nv ? count_of(std::min(items, nv), "vertex", "vertices")
                                          : std::to_string(nv) + " vertices and " + count_of(items - nv, "face", "faces");
     fail(path, "truncated OFF file: the header announces " + count_of(nv, "vertex", "vertices") + " and " +
                    count_of(nf, "face", "faces") + ", the file ends after " + read + " (" + quote(last_line(text)) + ")");
   }
   problems.raise(path);
-  fail(path, "malformed OFF file: CGAL's reader stopped at " + quote(line_before(text, stop)));
 }
 
 }  // namespace
@@ -248,22 +258,17 @@ RawSoup parse_off(const std::string& path, const std::string& text) {
   if (header.skel()) fail(path, "SKEL file, not an OFF surface (" + quote(header_line) + ")");
   if (header.binary()) fail(path, "binary OFF is not supported, use ASCII OFF or PLY (" + quote(header_line) + ")");
 
-  // CGAL keeps the header's int counts in size_t (a negative count becomes huge) and allocates
-  // them before reading anything: check them against the size of the file first.
+  // CGAL keeps the header's int counts in size_t, where a negative count becomes huge.
   const std::size_t nv = header.size_of_vertices(), nf = header.size_of_facets();
   if (nv > INT_MAX || nf > INT_MAX) fail(path, "malformed OFF header: negative vertex or face count (" + quote(header_line) + ")");
-  const std::size_t rest = text.size() - header_end;
-  if (2 * (nv + nf) > rest + 1)  // a loose bound (real lines are longer), enough to keep allocations sane
-    fail(path, "truncated OFF file: the header announces " + count_of(nv, "vertex", "vertices") + " and " +
-                   count_of(nf, "face", "faces") + " but only " + std::to_string(rest) + " bytes follow it (" +
-                   quote(header_line) + ")");
+  check_off_lines(path, text, header_end, nv, nf);
 
   in.clear();
   in.seekg(0);
   RawSoup soup;
   const bool ok = CGAL::IO::read_OFF(in, soup.points, soup.faces, CGAL::parameters::verbose(false));
   const std::size_t stop = stream_pos(in, text.size());
-  if (!ok) diagnose_off(path, text, header_end, nv, nf, stop);
+  if (!ok) fail(path, "malformed OFF file: CGAL's reader stopped at " + quote(line_before(text, stop)));
   // CGAL stops after the announced faces; anything but comments after them means wrong counts.
   if (!only_blank_after(text, stop, true))
     fail(path, "malformed OFF file: data after the " + count_of(nf, "face", "faces") + " the header announces (" +
@@ -284,7 +289,7 @@ RawSoup parse_obj(const std::string& path, const std::string& text_in) {
   if (ok) return soup;
   const std::size_t stop = stream_pos(in, text.size());
 
-  TextProblems problems;
+  TextProblems problems(text);
   std::size_t vertices = 0;
   for_each_line(text, 0, [&](const Line& line) {
     const auto t = tokens_of(line.text, true);
@@ -339,7 +344,7 @@ RawSoup parse_binary_stl(const std::string& text, std::size_t triangles) {
 
 /// Re-scans an ASCII STL file CGAL refused.
 [[noreturn]] void diagnose_ascii_stl(const std::string& path, const std::string& text) {
-  TextProblems problems;
+  TextProblems problems(text);
   std::size_t vertices = 0, facet = 0, corners = 0;
   for_each_line(text, 0, [&](const Line& line) {
     const auto t = tokens_of(line.text, false);
@@ -351,7 +356,7 @@ RawSoup parse_binary_stl(const std::string& text, std::size_t triangles) {
       ++corners;
     } else if (t[0] == "endfacet") {
       if (corners != 3)
-        problems.malformed("facet " + std::to_string(facet) + ": " + std::to_string(corners) + " vertices, STL needs 3", line, false);
+        problems.malformed("facet " + std::to_string(facet) + ": " + std::to_string(corners) + " vertices, STL needs 3", line);
       ++facet;
     }
   });
@@ -413,6 +418,7 @@ namespace {
 struct PlyProperty {
   std::string type, name;   // for a list: type is the index type
   bool list = false;
+  std::string count_type;   // for a list
 };
 struct PlyElement {
   std::string name;
@@ -427,16 +433,22 @@ struct PlyElement {
 };
 struct PlyHeader {
   bool ascii = true;
+  bool big_endian = false;
   std::vector<PlyElement> elements;
   std::size_t data_begin = 0;
 };
 
-bool is_ply_type(std::string_view t) {
-  for (const char* k : {"char", "int8", "uchar", "uint8", "short", "int16", "ushort", "uint16", "int", "int32", "uint",
-                        "uint32", "float", "float32", "double", "float64"})
-    if (t == k) return true;
-  return false;
+/// Bytes of a PLY scalar type, 0 for an unknown type.
+std::size_t ply_type_size(std::string_view t) {
+  for (const char* k : {"char", "int8", "uchar", "uint8"})
+    if (t == k) return 1;
+  for (const char* k : {"short", "int16", "ushort", "uint16"})
+    if (t == k) return 2;
+  for (const char* k : {"int", "int32", "uint", "uint32", "float", "float32"})
+    if (t == k) return 4;
+  return t == "double" || t == "float64" ? 8 : 0;
 }
+bool is_ply_type(std::string_view t) { return ply_type_size(t) > 0; }
 
 /// Hand-written header check: CGAL's PLY reader dereferences a null pointer when x/y/z are not
 /// float or double, silently uses 0 for a missing coordinate and cannot say what is unsupported.
@@ -459,6 +471,7 @@ PlyHeader parse_ply_header(const std::string& path, const std::string& text) {
       if (t.size() != 3 || t[0] != "format") bad("malformed PLY header: line 2 must be 'format <encoding> 1.0'");
       if (t[1] != "ascii" && t[1] != "binary_little_endian" && t[1] != "binary_big_endian") bad("unsupported PLY encoding");
       h.ascii = t[1] == "ascii";
+      h.big_endian = t[1] == "binary_big_endian";
       continue;
     }
     if (t.empty()) bad("malformed PLY header: blank line");
@@ -473,9 +486,9 @@ PlyHeader parse_ply_header(const std::string& path, const std::string& text) {
     } else if (t[0] == "property") {
       if (h.elements.empty()) bad("malformed PLY header: property before any element");
       if (t.size() == 5 && t[1] == "list" && is_ply_type(t[2]) && is_ply_type(t[3]))
-        h.elements.back().properties.push_back({std::string(t[3]), std::string(t[4]), true});
+        h.elements.back().properties.push_back({std::string(t[3]), std::string(t[4]), true, std::string(t[2])});
       else if (t.size() == 3 && is_ply_type(t[1]))
-        h.elements.back().properties.push_back({std::string(t[1]), std::string(t[2]), false});
+        h.elements.back().properties.push_back({std::string(t[1]), std::string(t[2]), false, ""});
       else
         bad("malformed or unsupported PLY property");
     }  // comment, obj_info and unknown keywords: ignored, as CGAL does
@@ -504,6 +517,61 @@ PlyHeader parse_ply_header(const std::string& path, const std::string& text) {
   return h;
 }
 
+/// Hand-written: CGAL sizes a list from its count before reading the entries, so a corrupt 32-bit
+/// count could make it allocate gigabytes. Walks the data checking each count against what is
+/// left of the file; only needed (and only run) when some list has a 32-bit count. A file that
+/// ends early is left to CGAL and diagnose_ply.
+void check_ply_list_counts(const std::string& path, const std::string& text, const PlyHeader& h) {
+  bool wide = false;
+  for (const auto& e : h.elements)
+    for (const auto& p : e.properties) wide = wide || (p.list && ply_type_size(p.count_type) > 2);
+  if (!wide) return;
+  const auto too_long = [&](const PlyElement& e, std::size_t item, unsigned long long count) {
+    fail(path, "malformed PLY file: " + e.name + " " + std::to_string(item) + " announces a list of " +
+                   std::to_string(count) + " entries, more than the rest of the file holds");
+  };
+  if (h.ascii) {
+    std::vector<std::string_view> tokens;
+    for_each_line(text, h.data_begin, [&](const Line& line) {
+      const auto t = tokens_of(line.text, false);
+      tokens.insert(tokens.end(), t.begin(), t.end());
+    });
+    std::size_t next = 0;
+    for (const auto& e : h.elements)
+      for (std::size_t item = 0; item < e.count; ++item)
+        for (const auto& p : e.properties) {
+          if (next >= tokens.size()) return;
+          long long count = 1;
+          if (p.list && (!parse_integer(tokens[next], count) || count < 0)) return;  // CGAL reports it
+          if (p.list && static_cast<std::size_t>(count) > tokens.size() - next - 1) too_long(e, item, count);
+          next += p.list ? 1 + static_cast<std::size_t>(count) : 1;
+        }
+    return;
+  }
+  std::size_t pos = h.data_begin;
+  for (const auto& e : h.elements)
+    for (std::size_t item = 0; item < e.count; ++item)
+      for (const auto& p : e.properties) {
+        const std::size_t size = ply_type_size(p.list ? p.count_type : p.type);
+        if (pos + size > text.size()) return;
+        if (!p.list) {
+          pos += size;
+          continue;
+        }
+        unsigned long long count = 0;
+        for (std::size_t b = 0; b < size; ++b) {  // assemble the count in the file's byte order
+          const auto byte = static_cast<unsigned char>(text[pos + (h.big_endian ? b : size - 1 - b)]);
+          count = count << 8 | byte;
+        }
+        const bool is_signed = p.count_type[0] != 'u';
+        if (is_signed && count >> (8 * size - 1)) too_long(e, item, count);  // negative
+        const std::size_t entry = ply_type_size(p.type);
+        pos += size;
+        if (count > (text.size() - pos) / entry) too_long(e, item, count);
+        pos += count * entry;
+      }
+}
+
 /// Re-scans a PLY file CGAL refused.
 [[noreturn]] void diagnose_ply(const std::string& path, const std::string& text, const PlyHeader& h, std::size_t stop) {
   std::size_t items = 0;
@@ -514,7 +582,7 @@ PlyHeader parse_ply_header(const std::string& path, const std::string& text) {
     fail(path, "malformed binary PLY file: CGAL's reader stopped at byte " + std::to_string(stop));
   }
   // ASCII PLY stores one item per line. Coordinates can be located when vertices come first.
-  TextProblems problems;
+  TextProblems problems(text);
   const PlyElement& first = h.elements.front();
   std::vector<std::size_t> coordinate_column;
   const bool vertices_first = (first.name == "vertex" || first.name == "vertices") &&
@@ -545,6 +613,7 @@ PlyHeader parse_ply_header(const std::string& path, const std::string& text) {
 
 RawSoup parse_ply(const std::string& path, const std::string& text) {
   const PlyHeader header = parse_ply_header(path, text);
+  check_ply_list_counts(path, text, header);
   std::istringstream in(text);
   RawSoup soup;
   const bool ok = CGAL::IO::read_PLY(in, soup.points, soup.faces, CGAL::parameters::verbose(false));

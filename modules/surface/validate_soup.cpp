@@ -198,7 +198,8 @@ void check_soup_surface(const std::vector<Point>& points, const std::vector<Poly
     if (pinched[v]) non_manifold_vertex.add([&] { return name(v); });
   if (non_manifold_vertex.count() > 0)
     fail(source, count_of(non_manifold_vertex.count(), "non-manifold vertex", "non-manifold vertices") +
-                     " (the faces around it form more than one fan), first is " + non_manifold_vertex.first());
+                     (non_manifold_vertex.count() == 1 ? " (the faces around it" : " (the faces around each") +
+                     " form more than one fan), first is " + non_manifold_vertex.first());
 
   if (face_sets.number_of_sets() > 1) {
     std::vector<std::pair<std::size_t, std::size_t>> components;  // (first face, face count), by first face

@@ -102,12 +102,17 @@ std::string ascii_ply(const Coords& points, const Faces& faces) {
   return s;
 }
 
-std::string binary_ply(const Coords& points, const Faces& faces) {
+/// Little-endian binary PLY; `wide_counts` stores face sizes as uint instead of uchar.
+std::string binary_ply(const Coords& points, const Faces& faces, bool wide_counts = false) {
   std::string s = ply_header("binary_little_endian", "double", points.size(), faces.size());
+  if (wide_counts) s.replace(s.find("list uchar int"), 14, "list uint int");
   for (const auto& p : points)
     for (double c : p) put_double(s, c);
   for (const auto& f : faces) {
-    s += static_cast<char>(3);
+    if (wide_counts)
+      put_u32(s, 3);
+    else
+      s += static_cast<char>(3);
     for (std::size_t v : f) put_u32(s, static_cast<std::uint32_t>(v));
   }
   return s;
@@ -274,6 +279,29 @@ TEST(ReadSurface, BinaryPlyWithFloatCoordinatesAndExtraProperties) {
     for (std::size_t v : f) put_u32(s, static_cast<std::uint32_t>(v));
   }
   expect_mesh(read_surface(dir.write("tetra.ply", s)), 4, 4, 1.0 / 6.0);
+}
+
+TEST(ReadSurface, PlyWith32BitListCounts) {
+  TempDir dir;
+  std::string ascii = ascii_ply(kTetraPoints, kTetraFaces);
+  ascii.replace(ascii.find("list uchar int"), 14, "list int int");
+  expect_mesh(read_surface(dir.write("ascii.ply", ascii)), 4, 4, 1.0 / 6.0);
+  std::string binary = ply_header("binary_big_endian", "double", 4, 4);
+  binary.replace(binary.find("list uchar int"), 14, "list uint int");
+  const auto put_be32 = [&](std::uint32_t v) {
+    for (int i = 3; i >= 0; --i) binary += static_cast<char>((v >> (8 * i)) & 0xff);
+  };
+  for (const auto& p : kTetraPoints)
+    for (double c : p) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &c, 8);
+      for (int i = 7; i >= 0; --i) binary += static_cast<char>((bits >> (8 * i)) & 0xff);
+    }
+  for (const auto& f : kTetraFaces) {
+    put_be32(3);
+    for (std::size_t v : f) put_be32(static_cast<std::uint32_t>(v));
+  }
+  expect_mesh(read_surface(dir.write("binary.ply", binary)), 4, 4, 1.0 / 6.0);
 }
 
 TEST(ReadSurface, ExtensionIsCaseInsensitive) {
@@ -555,6 +583,25 @@ TEST(ReadSurfaceRefuses, UnsupportedPlyCoordinates) {
                                                  "property int z\nelement face 4\nproperty list uchar int vertex_indices\n"
                                                  "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
   expect_invalid_input([&] { read_surface(path); }, path, "unsupported PLY: vertex coordinate 'x' is of type int");
+}
+
+TEST(ReadSurfaceRefuses, HugeCountsAreNotAllocated) {
+  // CGAL would size these arrays from the counts before reading: the counts must be caught first.
+  TempDir dir;
+  const std::string header = dir.write("header.off", "OFF\n2000000000 2000000000 0\n0 0 0\n");
+  expect_invalid_input([&] { read_surface(header); }, header,
+                       "truncated OFF file: the header announces 2000000000 vertices and 2000000000 faces, the file ends "
+                       "after 1 vertex");
+  std::string text = kTetrahedronOff;
+  text.replace(text.find("3 1 2 3"), 7, "3000000000 1 2 3");
+  const std::string face = dir.write("face.off", text);
+  expect_invalid_input([&] { read_surface(face); }, face, "malformed face 3: 3000000000 vertex indices announced, 3 given");
+  std::string ply = binary_ply(kTetraPoints, kTetraFaces, /*wide_counts=*/true);
+  const std::size_t first_face = ply.find("end_header\n") + 11 + 4 * 3 * 8;
+  ply.replace(first_face, 4, std::string("\xff\xff\xff\x7f", 4));  // face 0: 2^31 - 1 entries
+  const std::string huge = dir.write("huge.ply", ply);
+  expect_invalid_input([&] { read_surface(huge); }, huge,
+                       "malformed PLY file: face 0 announces a list of 2147483647 entries, more than the rest of the file holds");
 }
 
 TEST(ReadSurfaceRefuses, MalformedLines) {
