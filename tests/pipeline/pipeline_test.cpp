@@ -133,6 +133,16 @@ TEST_F(Skeleton, ResumeFromExtractReusesEarlierFiles) {
   EXPECT_TRUE(core::read_report(w.string())["stages"].contains("classify"));
 }
 
+TEST_F(Skeleton, SameConfigGivesByteIdenticalFiles) {
+  ASSERT_EQ(result.code, 0) << result.output;
+  const fs::path again = dir / "again";
+  const Outcome r = run(bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + again.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"classify.stage.json", "classify.vtp", "split.stage.json", "polycube.stage.json", "polycube.vtp",
+                        "tmesh.stage.json", "tmesh.vtu", "bezier.vtu"})
+    EXPECT_EQ(core::read_text_file((dir / "work" / f).string()), core::read_text_file((again / f).string())) << f << " differs";
+}
+
 TEST(Pipeline, ResumeWithoutEarlierFilesNamesTheMissingFile) {
   const fs::path d = fresh_dir("resume_missing");
   write(d / "run.yaml", "input: {generate: box}\n");
