@@ -41,4 +41,21 @@ Eigen::MatrixXd degree_elevation_matrix(int from, int to) {
   return E;
 }
 
+Eigen::MatrixXd subdivision_matrix(int degree, double a, double b) {
+  if (degree < 0) throw core::InvalidInputError("subdivision_matrix: negative degree " + std::to_string(degree));
+  // Row i is the blossom P(a^(p-i), b^i) as a functional of the coefficients: apply p-i de
+  // Casteljau steps at a and i at b to the identity.
+  const int p = degree;
+  Eigen::MatrixXd S(p + 1, p + 1);
+  for (int i = 0; i <= p; ++i) {
+    Eigen::MatrixXd c = Eigen::MatrixXd::Identity(p + 1, p + 1);  // rows = current coefficients
+    for (int m = p; m > 0; --m) {
+      const double t = (p - m) < (p - i) ? a : b;
+      for (int r = 0; r < m; ++r) c.row(r) = (1.0 - t) * c.row(r) + t * c.row(r + 1);
+    }
+    S.row(i) = c.row(0);
+  }
+  return S;
+}
+
 }  // namespace volts::bezier

@@ -17,4 +17,9 @@ Eigen::VectorXd bernstein_basis(int degree, double x, Eigen::VectorXd* derivativ
 /// homogeneous (w·P, w) coefficients of rational Béziers.
 Eigen::MatrixXd degree_elevation_matrix(int from, int to);
 
+/// S ((p+1) x (p+1)) mapping Bézier coefficients on [0,1] to those of the same polynomial on
+/// [a,b] reparametrised to [0,1] (de Casteljau / blossom: row i = P(a^(p-i), b^i)). Rows sum to 1.
+/// [0,1/2] and [1/2,1] give the subdivision at 1/2. Any a, b (a == b, b < a and outside [0,1] too).
+Eigen::MatrixXd subdivision_matrix(int degree, double a, double b);
+
 }  // namespace volts::bezier

@@ -164,4 +164,14 @@ BezierHex elevate_degree(const BezierHex& hex, const std::array<int, 3>& new_deg
   return map_coefficients(hex, E);
 }
 
+std::array<BezierHex, 8> subdivide(const BezierHex& hex) {
+  check(hex);
+  std::array<std::array<Eigen::MatrixXd, 2>, 3> S;
+  for (int d = 0; d < 3; ++d)
+    for (int half = 0; half < 2; ++half) S[d][half] = subdivision_matrix(hex.degree[d], 0.5 * half, 0.5 * (half + 1));
+  std::array<BezierHex, 8> out;
+  for (int c = 0; c < 8; ++c) out[c] = map_coefficients(hex, {S[0][c & 1], S[1][(c >> 1) & 1], S[2][(c >> 2) & 1]});
+  return out;
+}
+
 }  // namespace volts::bezier

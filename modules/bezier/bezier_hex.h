@@ -71,4 +71,9 @@ BezierHex map_coefficients(const BezierHex& hex, const std::array<Eigen::MatrixX
 /// in homogeneous coordinates (w·P, w), so the geometry is unchanged.
 BezierHex elevate_degree(const BezierHex& hex, const std::array<int, 3>& new_degree);
 
+/// The hex restricted to the 8 octants of [0,1]^3 (split at 1/2 in each direction), each
+/// reparametrised to [0,1]^3; child c covers u in [c&1 ? 1/2 : 0, ..], v by bit 1, w by bit 2.
+/// Exact for rational hexes (homogeneous de Casteljau).
+std::array<BezierHex, 8> subdivide(const BezierHex& hex);
+
 }  // namespace volts::bezier
