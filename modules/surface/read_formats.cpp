@@ -205,37 +205,36 @@ void check_off_lines(const std::string& path, const std::string& text, std::size
                      std::size_t nf) {
   TextProblems problems(text);
   std::size_t items = 0;
-  const std::size_t data_begin = text.find('\n', header_end);
-  if (data_begin != npos)
-    for_each_line(text, data_begin + 1, [&](const Line& line) {
-      const auto t = tokens_of(line.text, true);
-      if (t.empty()) return;
-      if (items < nv) {
-        problems.vertex(items, t, line);
-      } else if (items < nv + nf) {
-        const std::size_t face = items - nv;
-        long long n = 0;
-        if (!parse_integer(t[0], n) || n < 0) {
-          problems.malformed("face " + std::to_string(face) + ": '" + std::string(t[0]) + "' is not a vertex count", line);
-        } else if (t.size() < static_cast<std::size_t>(n) + 1) {
-          problems.short_line("face " + std::to_string(face) + ": " + std::to_string(n) + " vertex indices announced, " +
-                                  std::to_string(t.size() - 1) + " given", line);
-        } else {
-          for (std::size_t k = 1; k <= static_cast<std::size_t>(n); ++k) {
-            long long index = 0;
-            if (!parse_integer(t[k], index)) {
-              problems.malformed("face " + std::to_string(face) + ": '" + std::string(t[k]) + "' is not a vertex index", line);
-              break;
-            }
-            if (index < 0 || static_cast<std::size_t>(index) >= nv) {
-              problems.index_out_of_range(face, index, nv, line);
-              break;
-            }
+  // Like CGAL, read on from the end of the counts: the rest of their line is data if not blank.
+  for_each_line(text, header_end, [&](const Line& line) {
+    const auto t = tokens_of(line.text, true);
+    if (t.empty()) return;
+    if (items < nv) {
+      problems.vertex(items, t, line);
+    } else if (items < nv + nf) {
+      const std::size_t face = items - nv;
+      long long n = 0;
+      if (!parse_integer(t[0], n) || n < 0) {
+        problems.malformed("face " + std::to_string(face) + ": '" + std::string(t[0]) + "' is not a vertex count", line);
+      } else if (t.size() < static_cast<std::size_t>(n) + 1) {
+        problems.short_line("face " + std::to_string(face) + ": " + std::to_string(n) + " vertex indices announced, " +
+                                std::to_string(t.size() - 1) + " given", line);
+      } else {
+        for (std::size_t k = 1; k <= static_cast<std::size_t>(n); ++k) {
+          long long index = 0;
+          if (!parse_integer(t[k], index)) {
+            problems.malformed("face " + std::to_string(face) + ": '" + std::string(t[k]) + "' is not a vertex index", line);
+            break;
+          }
+          if (index < 0 || static_cast<std::size_t>(index) >= nv) {
+            problems.index_out_of_range(face, index, nv, line);
+            break;
           }
         }
       }
-      ++items;
-    });
+    }
+    ++items;
+  });
   problems.raise_non_finite(path);
   if (items < nv + nf || problems.file_cut()) {
     const std::string read = items <= nv ? count_of(std::min(items, nv), "vertex", "vertices")
@@ -356,7 +355,7 @@ RawSoup parse_binary_stl(const std::string& text, std::size_t triangles) {
       ++corners;
     } else if (t[0] == "endfacet") {
       if (corners != 3)
-        problems.malformed("facet " + std::to_string(facet) + ": " + std::to_string(corners) + " vertices, STL needs 3", line);
+        problems.malformed("facet " + std::to_string(facet) + ": " + count_of(corners, "vertex", "vertices") + ", STL needs 3", line);
       ++facet;
     }
   });
@@ -578,7 +577,7 @@ void check_ply_list_counts(const std::string& path, const std::string& text, con
   for (const auto& e : h.elements) items += e.count;
   const std::string announced = "the header announces " + count_of(items, "element item", "element items");
   if (!h.ascii) {
-    if (stop >= text.size()) fail(path, "truncated binary PLY file: it ends before " + announced);
+    if (stop >= text.size()) fail(path, "truncated binary PLY file: it ends before the " + std::to_string(items) + " element items the header announces");
     fail(path, "malformed binary PLY file: CGAL's reader stopped at byte " + std::to_string(stop));
   }
   // ASCII PLY stores one item per line. Coordinates can be located when vertices come first.

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <new>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
@@ -102,20 +103,23 @@ Mesh read_surface(const std::string& path, ReadInfo* info_out) {
   }
   info.triangulated_faces = polygons.size();
   if (!polygons.empty()) {
-    // Triangulating may create a zero-area triangle or an edge that already exists elsewhere.
+    // Triangulating may create a zero-area triangle, or split a quad along a diagonal that is
+    // already an edge elsewhere (CGAL does not check); numbers in such messages are of the welded mesh.
     std::vector<Point> tri_points;
     std::vector<Polygon> tri_faces;
     PMP::polygon_mesh_to_polygon_soup(mesh, tri_points, tri_faces);
     validate_soup(tri_points, tri_faces,
-                  path + " (after triangulating " + detail::count_of(polygons.size(), "polygon", "polygons") + ")");
+                  path + ": after triangulating " + detail::count_of(polygons.size(), "polygon", "polygons"));
   }
 
   const double volume = PMP::volume(mesh);
   const double diagonal = bbox_diagonal(mesh);
   // A closed, consistently oriented surface can still be flat (e.g. two triangles back to back).
-  if (!(std::abs(volume) > 1e-12 * diagonal * diagonal * diagonal))
-    fail(path, "the surface encloses no volume (signed volume " + std::to_string(volume) +
-                   ", bounding-box diagonal " + std::to_string(diagonal) + ")");
+  if (!(std::abs(volume) > 1e-12 * diagonal * diagonal * diagonal)) {
+    std::ostringstream m;
+    m << "the surface encloses no volume (signed volume " << volume << ", bounding-box diagonal " << diagonal << ")";
+    fail(path, m.str());
+  }
   if (volume < 0) {
     PMP::reverse_face_orientations(mesh);
     info.flipped = true;
