@@ -1,0 +1,27 @@
+// volts::split — level sets of a piecewise-linear field inserted into the surface mesh, so that
+// cross sections (Liu et al. 2013, §4.1 step 3: "the level-set curves through the saddles are the
+// cross sections") become chains of mesh edges that later cuts and patches can follow exactly.
+#pragma once
+
+#include <vector>
+
+#include "surface/surface.h"
+
+namespace volts::split {
+
+/// Inserts the level set {field = value} into `mesh`: every edge it crosses is split at the
+/// crossing (the new vertex gets the linearly interpolated position and field value), every crossed
+/// triangle is split along it. Vertices lying closer than `snap` (relative to the field's range) to
+/// the level are moved onto it instead of creating slivers. Returns the level set as closed loops
+/// of vertex ids (each loop once, not repeating its first vertex), in a deterministic order.
+/// `field` is extended to the new vertices. Throws core::InvalidInputError if the field size does
+/// not match the mesh, core::TopologyError if the level set is not a set of disjoint simple loops
+/// (e.g. it passes through a saddle: choose a value away from critical values).
+std::vector<std::vector<int>> insert_isoline(surface::Mesh& mesh, std::vector<double>& field, double value,
+                                             double snap = 1e-6);
+
+/// Connected components of faces when the given vertex loops are cuts: faces on different sides of
+/// a loop edge get different labels. Returns one label per face (0, 1, ...) in order of first face.
+std::vector<int> regions_cut_by(const surface::Mesh& mesh, const std::vector<std::vector<int>>& loops);
+
+}  // namespace volts::split
