@@ -4,6 +4,8 @@
 #include <CGAL/Polygon_mesh_processing/polygon_mesh_to_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
+#include <CGAL/boost/graph/Euler_operations.h>
 
 #include <algorithm>
 #include <array>
@@ -315,23 +317,78 @@ Mesh canonical(const Mesh& mesh, const std::string& source) {
   return out;
 }
 
+/// Splits each of the 12 edges of the cube [-1,1]^3 in `mesh` (corner to corner, untouched by the Boolean)
+/// into `segments` equal parts and triangulates the faces beside them.
+void split_cube_edges(Mesh& mesh, int segments) {
+  std::vector<Mesh::Halfedge_index> cube_edges;
+  for (const auto e : mesh.edges()) {
+    const Point &a = mesh.point(mesh.vertex(e, 0)), &b = mesh.point(mesh.vertex(e, 1));
+    int same = 0, corners = 0;
+    for (int i = 0; i < 3; ++i) {
+      same += a[i] == b[i];
+      corners += std::abs(a[i]) == 1 && std::abs(b[i]) == 1;
+    }
+    if (corners == 3 && same == 2) cube_edges.push_back(mesh.halfedge(e));
+  }
+  for (const auto h : cube_edges) {
+    const Point a = mesh.point(mesh.source(h)), b = mesh.point(mesh.target(h));
+    const int axis = a.x() != b.x() ? 0 : a.y() != b.y() ? 1 : 2;
+    for (int k = 1; k < segments; ++k) {  // h keeps its target: each split inserts after the last point
+      std::array<double, 3> x = {a.x(), a.y(), a.z()};
+      x[axis] = lattice_coordinate(a[axis] < 0 ? k : segments - k, segments, 1.0);
+      mesh.point(mesh.target(CGAL::Euler::split_edge(h, mesh))) = Point(x[0], x[1], x[2]);
+    }
+  }
+  PMP::triangulate_faces(mesh);
+}
+
+/// Isotropic remeshing of the cube with a hole to edge length h. Constrained edges: the sharp ones, between
+/// faces of different cube planes or of a plane and the wall (told exactly by coordinates, where dihedral
+/// angles of thin triangles are not reliable), and the vertical creases of the hole's prism (else the
+/// remeshed wall would cut across them and shrink the hole). Their ends, the cube's and the rims' corners,
+/// join three constrained edges, so the remesher keeps them in place: corners, cube edges and rim polygons
+/// stay exact, and the volume stays that of the cube minus the prism.
+void remesh_cube_with_hole(Mesh& mesh, double h) {
+  const auto plane_of = [&](Mesh::Face_index f) {
+    for (int a = 0; a < 3; ++a)
+      for (const double side : {-1.0, 1.0}) {
+        bool on = true;
+        for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) on = on && mesh.point(v)[a] == side;
+        if (on) return 2 * a + (side > 0);
+      }
+    return -1;  // the hole's wall
+  };
+  auto constrained = mesh.add_property_map<Mesh::Edge_index, bool>("e:constrained", false).first;
+  for (const auto e : mesh.edges()) {
+    const int p0 = plane_of(mesh.face(mesh.halfedge(e, 0))), p1 = plane_of(mesh.face(mesh.halfedge(e, 1)));
+    const Point &a = mesh.point(mesh.vertex(e, 0)), &b = mesh.point(mesh.vertex(e, 1));
+    put(constrained, e, p0 != p1 || (p0 == -1 && a.x() == b.x() && a.y() == b.y()));
+  }
+  PMP::isotropic_remeshing(faces(mesh), h, mesh,
+                           CGAL::parameters::number_of_iterations(5)
+                               .edge_is_constrained_map(constrained)
+                               .protect_constraints(false));
+  mesh.remove_property_map(constrained);
+  mesh.collect_garbage();
+}
+
 /// Cube [-1,1]^3 minus the prism inscribed in the cylinder of radius kHoleRadius along z, by
 /// corefinement, then remeshed to the segment length with its sharp edges kept in place.
 Mesh make_cube_with_hole(const ModelParams& p) {
   const int n = p.resolution;
   const double h = 2.0 / n;
   // The cube as 12 triangles: its top and bottom diagonals (x = y) then pass exactly through two corners
-  // of each rim polygon, so the Boolean creates no vertex near a rim; remeshing refines it afterwards.
+  // of each rim polygon, so the Boolean creates no vertex on a rim (such vertices, arbitrarily close to
+  // the rim's corners, would leave slivers no remeshing removes).
   Soup cube_soup;
   add_lattice_box(cube_soup, {1, 1, 1}, [](const Lattice& ijk) {
     return Point(2 * ijk[0] - 1, 2 * ijk[1] - 1, 2 * ijk[2] - 1);
   });
   Mesh cube = cube_soup.to_mesh("cube of model 'cube-with-hole'");
 
-  // Cylinder with the cube's segment length, through the cube and one segment beyond. It has rings
-  // exactly at z = -1 and 1, so the rims are its own polygons, not wall triangles cut at arbitrary heights.
-  // A multiple of 8 segments (corners on the diagonals), at least 16 (the hole's vertical edges must stay
-  // below the 30 degree feature angle).
+  // Cylinder with the segment length, through the cube and one segment beyond, with rings exactly at
+  // z = -1 and 1: the rims are its own polygons. A multiple of 8 segments (corners on the diagonals), at
+  // least 16 (the hole's vertical edges must stay below the 30 degree feature angle).
   const int nc = 8 * std::max(2, rounded(2 * kPi * kHoleRadius / h / 8));
   Soup cylinder_soup;
   std::vector<std::size_t> below;
@@ -352,31 +409,12 @@ Mesh make_cube_with_hole(const ModelParams& p) {
     throw core::NumericalError("model 'cube-with-hole': the Boolean difference of cube and cylinder failed");
   Mesh result = canonical(difference, "Boolean difference of model 'cube-with-hole'");
 
-  // Remesh to the segment length h. Constrained edges: the sharp ones, between faces of different cube
-  // planes or of a plane and the wall (told exactly by coordinates), and the vertical creases of the hole's
-  // prism (else the remeshed wall would cut across them and shrink the hole). Their ends, the cube's and
-  // the rims' corners, join three constrained edges, so the remesher keeps them in place: corners, cube
-  // edges and rim polygons stay exact, and the volume is that of the input prism hole.
-  const auto plane_of = [&](Mesh::Face_index f) {
-    for (int a = 0; a < 3; ++a)
-      for (const double side : {-1.0, 1.0}) {
-        bool on = true;
-        for (const auto v : CGAL::vertices_around_face(result.halfedge(f), result)) on = on && result.point(v)[a] == side;
-        if (on) return 2 * a + (side > 0);
-      }
-    return -1;  // the hole's wall
-  };
-  auto constrained = result.add_property_map<Mesh::Edge_index, bool>("e:constrained", false).first;
-  for (const auto e : result.edges()) {
-    const int p0 = plane_of(result.face(result.halfedge(e, 0))), p1 = plane_of(result.face(result.halfedge(e, 1)));
-    const Point &a = result.point(result.vertex(e, 0)), &b = result.point(result.vertex(e, 1));
-    put(constrained, e, p0 != p1 || (p0 == -1 && a.x() == b.x() && a.y() == b.y()));
-  }
-  PMP::isotropic_remeshing(faces(result), h, result,
-                           CGAL::parameters::number_of_iterations(5)
-                               .edge_is_constrained_map(constrained)
-                               .protect_constraints(false));
-  result.collect_garbage();
+  // The remesher halves constrained edges longer than 4/3 h: split the cube's edges into the odd part of n
+  // (few thin triangles, fast) and it halves them down to exactly n segments.
+  int odd = n;
+  while (odd % 2 == 0) odd /= 2;
+  split_cube_edges(result, odd);
+  remesh_cube_with_hole(result, h);
   return canonical(result, "model 'cube-with-hole'");
 }
 
@@ -394,7 +432,7 @@ const std::vector<Model>& models() {
       {"bulged-box", "the box with each face bulged out smoothly; edges stay straight and sharp (genus 0)",
        make_bulged_box_from_params},
       {"torus", "torus about z, radii 2 and 0.75 (genus 1, smooth)", make_torus},
-      {"cube-with-hole", "cube [-1,1]^3 minus a cylinder of radius 0.7 along z (genus 1; Liu et al. 2013, Fig. 3)",
+      {"cube-with-hole", "cube [-1,1]^3 minus a through hole of radius 0.7 along z (genus 1; Liu et al. 2013, Fig. 3)",
        make_cube_with_hole},
       {"sphere", "unit sphere, projected cube grid (genus 0, smooth)", make_sphere},
       {"tetrahedron", "regular tetrahedron with corners (1,1,1),(1,-1,-1),(-1,1,-1),(-1,-1,1) (genus 0)",
