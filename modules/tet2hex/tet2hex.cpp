@@ -1,0 +1,421 @@
+#include "tet2hex/tet2hex.h"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Polygon_mesh_processing/detect_features.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "bezier/bernstein.h"
+#include "bezier/bernstein_poly.h"
+#include "bezier/vtk_bezier.h"
+#include "core/errors.h"
+#include "core/log.h"
+#include "tet2hex/convert.h"
+
+namespace volts::tet2hex {
+namespace {
+
+using surface::Mesh;
+using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<surface::Kernel, Primitive>>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+void check_params(const Params& p) {
+  if (p.degree < 1 || p.degree > 4) throw core::ConfigError("tet2hex.degree must be in [1, 4]");
+  if (p.gauss_points < 0 || p.gauss_points > 10) throw core::ConfigError("tet2hex.gauss_points must be in [0, 10]");
+  if (p.boundary_samples < 2 || p.boundary_samples > 64) throw core::ConfigError("tet2hex.boundary_samples must be in [2, 64]");
+  if (!(p.remesh_edge_rel >= 0 && p.remesh_edge_rel <= 0.5)) throw core::ConfigError("tet2hex.remesh_edge_rel must be in [0, 0.5]");
+}
+
+// The tet vertex each hex axis of sub-hex c runs towards (from subdomain_corners): the boundary
+// face of hex c opposite to that vertex is its face "axis = 0".
+int axis_towards(int c, int x) {
+  const auto corners = subdomain_corners(c);
+  for (int axis = 0; axis < 3; ++axis) {
+    const Eigen::Vector4d e = 2 * corners[1 << axis] - corners[0];  // the vertex the edge runs to
+    if (e[x] > 0.5) return axis;
+  }
+  return -1;
+}
+
+Eigen::Vector3d closest(const Tree& tree, const Eigen::Vector3d& x) {
+  const surface::Point q = tree.closest_point(surface::Point(x[0], x[1], x[2]));
+  return {q.x(), q.y(), q.z()};
+}
+
+// Key of a control point of tet with global vertices g and multi-index a: the (vertex, exponent)
+// pairs with exponent > 0, sorted by vertex. Equal on every tet sharing the point's entity.
+using PointKey = std::vector<std::pair<int, int>>;
+using EntityKey = std::vector<int>;
+PointKey point_key(const std::array<int, 4>& g, const std::array<int, 4>& a) {
+  PointKey k;
+  for (int v = 0; v < 4; ++v)
+    if (a[v] > 0) k.push_back({g[v], a[v]});
+  std::sort(k.begin(), k.end());
+  return k;
+}
+EntityKey entity_of(const PointKey& k) {
+  EntityKey e;
+  for (const auto& p : k) e.push_back(p.first);
+  return e;
+}
+
+// Curved control points of the boundary edges and faces: interpolation of the closest surface
+// points at the Lagrange nodes (uniform in barycentric coordinates). Edges first; faces then solve
+// only for their interior points, so shared edges are bit-identical.
+std::map<PointKey, Eigen::Vector3d> curved_points(const TetMesh& mesh, const std::vector<std::array<int, 2>>& bfaces, const Tree& tree, int n) {
+  std::map<PointKey, Eigen::Vector3d> cp;
+  if (n < 2) return cp;
+  std::set<std::array<int, 2>> edges;
+  std::vector<std::array<int, 3>> faces;
+  for (const auto& bf : bfaces) {
+    std::array<int, 3> f;
+    for (int j = 0, m = 0; j < 4; ++j)
+      if (j != bf[1]) f[m++] = mesh.tets[bf[0]][j];
+    std::sort(f.begin(), f.end());
+    faces.push_back(f);
+    edges.insert({f[0], f[1]}), edges.insert({f[0], f[2]}), edges.insert({f[1], f[2]});
+  }
+  // Edge: B (n+1)^2 interpolation matrix at t = m/n; ends fixed at the vertices.
+  Eigen::MatrixXd B(n + 1, n + 1);
+  for (int m = 0; m <= n; ++m) B.row(m) = bezier::bernstein_basis(n, double(m) / n).transpose();
+  const Eigen::PartialPivLU<Eigen::MatrixXd> Blu(B);
+  for (const auto& e : edges) {
+    const Eigen::Vector3d& p0 = mesh.points[e[0]];
+    const Eigen::Vector3d& p1 = mesh.points[e[1]];
+    Eigen::MatrixXd rhs(n + 1, 3);
+    for (int m = 0; m <= n; ++m) {
+      const Eigen::Vector3d x = p0 + (p1 - p0) * (double(m) / n);
+      rhs.row(m) = (m == 0 || m == n ? x : closest(tree, x)).transpose();
+    }
+    const Eigen::MatrixXd c = Blu.solve(rhs);
+    for (int m = 1; m < n; ++m) cp[{{e[0], n - m}, {e[1], m}}] = c.row(m).transpose();
+  }
+  if (n < 3) return cp;
+  // Face: the triangle's interior control points from the interior nodes, edges known.
+  const auto tri = bezier::simplex_multi_indices(2, n);  // {a0, a1, a2, 0}
+  std::vector<int> inner, outer;
+  for (int i = 0; i < static_cast<int>(tri.size()); ++i) (tri[i][0] > 0 && tri[i][1] > 0 && tri[i][2] > 0 ? inner : outer).push_back(i);
+  auto basis = [&](const std::array<int, 4>& cpi, const std::array<int, 4>& node) {
+    double b = bezier::binomial(n, cpi[1]) * bezier::binomial(n - cpi[1], cpi[2]);
+    for (int v = 0; v < 3; ++v) b *= std::pow(double(node[v]) / n, cpi[v]);
+    return b;
+  };
+  Eigen::MatrixXd Mi(inner.size(), inner.size()), Mo(inner.size(), outer.size());
+  for (std::size_t r = 0; r < inner.size(); ++r) {
+    for (std::size_t c = 0; c < inner.size(); ++c) Mi(r, c) = basis(tri[inner[c]], tri[inner[r]]);
+    for (std::size_t c = 0; c < outer.size(); ++c) Mo(r, c) = basis(tri[outer[c]], tri[inner[r]]);
+  }
+  const Eigen::PartialPivLU<Eigen::MatrixXd> Milu(Mi);
+  for (const auto& f : faces) {
+    auto key = [&](const std::array<int, 4>& a) {
+      return point_key({f[0], f[1], f[2], -1}, {a[0], a[1], a[2], 0});
+    };
+    Eigen::MatrixXd known(outer.size(), 3), rhs(inner.size(), 3);
+    for (std::size_t c = 0; c < outer.size(); ++c) {
+      const auto& a = tri[outer[c]];
+      const int corner = a[0] == n ? 0 : a[1] == n ? 1 : a[2] == n ? 2 : -1;
+      known.row(c) = (corner >= 0 ? mesh.points[f[corner]] : cp.at(key(a))).transpose();
+    }
+    for (std::size_t r = 0; r < inner.size(); ++r) {
+      const auto& a = tri[inner[r]];
+      const Eigen::Vector3d x = (a[0] * mesh.points[f[0]] + a[1] * mesh.points[f[1]] + a[2] * mesh.points[f[2]]) / n;
+      rhs.row(r) = closest(tree, x).transpose();
+    }
+    const Eigen::MatrixXd c = Milu.solve(rhs - Mo * known);
+    for (std::size_t r = 0; r < inner.size(); ++r) cp[key(tri[inner[r]])] = c.row(r).transpose();
+  }
+  return cp;
+}
+
+bezier::BezierTet build_tet(const TetMesh& mesh, int t, int n, const std::map<PointKey, Eigen::Vector3d>& curved,
+                            const std::set<EntityKey>& flat) {
+  const auto& g = mesh.tets[t];
+  bezier::BezierTet tet;
+  tet.degree = n;
+  for (const auto& a : bezier::simplex_multi_indices(3, n)) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int v = 0; v < 4; ++v) x += a[v] * mesh.points[g[v]];
+    x /= n;
+    const PointKey k = point_key(g, a);
+    if (k.size() == 2 || k.size() == 3) {
+      const auto it = curved.find(k);
+      if (it != curved.end() && !flat.count(entity_of(k))) x = it->second;
+    }
+    tet.points.push_back(x);
+  }
+  return tet;
+}
+
+// 1 if all four hexes are certified valid.
+bool convert_certify(const bezier::BezierTet& tet, const bezier::CertifyParams& cp, bezier::BezierHex* hexes, int* status) {
+  const auto h = four_hexes(tet);
+  bool ok = true;
+  for (int c = 0; c < 4; ++c) {
+    hexes[c] = h[c];
+    status[c] = static_cast<int>(bezier::certify(h[c], cp).status);
+    ok = ok && status[c] == static_cast<int>(bezier::Validity::valid);
+  }
+  return ok;
+}
+
+Mesh remesh(const Mesh& in, double edge_rel) {
+  Mesh m = in;
+  const double target = edge_rel * surface::bbox_diagonal(in);
+  auto ecm = m.add_property_map<Mesh::Edge_index, bool>("e:volts_sharp", false).first;
+  PMP::detect_sharp_edges(m, 30.0, ecm);
+  std::vector<Mesh::Edge_index> sharp;
+  for (auto e : m.edges())
+    if (ecm[e]) sharp.push_back(e);
+  PMP::split_long_edges(sharp, target, m, CGAL::parameters::edge_is_constrained_map(ecm));
+  PMP::isotropic_remeshing(faces(m), target, m,
+                           CGAL::parameters::number_of_iterations(3).edge_is_constrained_map(ecm).protect_constraints(true));
+  m.collect_garbage();
+  return m;
+}
+
+// The corners of the tets as a TetMesh (points welded by exact position), for .vtu input.
+TetMesh corner_mesh(const std::vector<bezier::BezierTet>& tets) {
+  TetMesh m;
+  std::map<std::array<double, 3>, int> id;
+  for (const auto& t : tets) {
+    const int n = t.degree;
+    std::array<int, 4> c;
+    const int idx[4] = {0, bezier::simplex_index(3, n, n, 0, 0), bezier::simplex_index(3, n, 0, n, 0), bezier::simplex_index(3, n, 0, 0, n)};
+    for (int v = 0; v < 4; ++v) {
+      const Eigen::Vector3d& p = t.points[idx[v]];
+      const auto ins = id.emplace(std::array<double, 3>{p[0], p[1], p[2]}, static_cast<int>(m.points.size()));
+      if (ins.second) m.points.push_back(p);
+      c[v] = ins.first->second;
+    }
+    m.tets.push_back(c);
+  }
+  return m;
+}
+
+// The boundary triangles as a closed, outward surface (faces opposite vertex x of a positive tet
+// are outward as listed).
+Mesh boundary_surface(const TetMesh& m, const std::vector<std::array<int, 2>>& bfaces) {
+  static const int face[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  Mesh s;
+  std::map<int, Mesh::Vertex_index> vid;
+  auto vertex = [&](int g) {
+    auto it = vid.find(g);
+    if (it != vid.end()) return it->second;
+    const auto v = s.add_vertex(surface::Point(m.points[g][0], m.points[g][1], m.points[g][2]));
+    vid[g] = v;
+    return v;
+  };
+  for (const auto& bf : bfaces) {
+    const auto& t = m.tets[bf[0]];
+    const auto f = s.add_face(vertex(t[face[bf[1]][0]]), vertex(t[face[bf[1]][1]]), vertex(t[face[bf[1]][2]]));
+    if (f == Mesh::null_face()) throw core::InvalidInputError("the boundary of the tets is not a manifold surface");
+  }
+  if (!CGAL::is_closed(s)) throw core::InvalidInputError("the boundary of the tets is not closed");
+  return s;
+}
+
+}  // namespace
+
+std::vector<bezier::BezierTet> bezier_tets(const TetMesh& mesh, const Mesh& surface, const Params& params, Result& r) {
+  check_params(params);
+  const int n = params.degree;
+  const auto bfaces = boundary_faces(mesh);
+  r.degree = n;
+  r.boundary_faces = static_cast<int>(bfaces.size());
+  std::map<PointKey, Eigen::Vector3d> curved;
+  if (params.curve_boundary && n >= 2) {
+    core::LogSection s("curve the boundary onto the surface");
+    Tree tree(faces(surface).first, faces(surface).second, surface);
+    tree.accelerate_distance_queries();
+    curved = curved_points(mesh, bfaces, tree, n);
+  }
+  const int nt = static_cast<int>(mesh.tets.size());
+  std::set<EntityKey> flat;
+  std::vector<bezier::BezierTet> tets(nt);
+  r.hexes.assign(4 * nt, {});
+  r.validity.assign(4 * nt, 0);
+  std::vector<int> todo(nt);
+  for (int t = 0; t < nt; ++t) todo[t] = t;
+  core::LogSection s("Bézier tets → 4 hexes (Theorem 3), certified");
+  core::Progress progress("tets", nt);
+  for (int round = 0; !todo.empty(); ++round) {
+    std::set<EntityKey> newly_flat;
+    for (std::size_t i = 0; i < todo.size(); ++i) {
+      const int t = todo[i];
+      tets[t] = build_tet(mesh, t, n, curved, flat);
+      const bool ok = convert_certify(tets[t], params.certify, &r.hexes[4 * t], &r.validity[4 * t]);
+      if (round == 0) progress.step(i + 1);
+      if (ok || curved.empty()) continue;
+      // Put this tet's curved boundary entities back flat.
+      for (const auto& a : bezier::simplex_multi_indices(3, n)) {
+        const PointKey k = point_key(mesh.tets[t], a);
+        if ((k.size() == 2 || k.size() == 3) && curved.count(k) && !flat.count(entity_of(k))) newly_flat.insert(entity_of(k));
+      }
+    }
+    if (round == 0) progress.finish();
+    if (newly_flat.empty()) break;
+    flat.insert(newly_flat.begin(), newly_flat.end());
+    todo.clear();
+    for (int t = 0; t < nt; ++t)
+      for (const auto& a : bezier::simplex_multi_indices(3, n)) {
+        const PointKey k = point_key(mesh.tets[t], a);
+        if ((k.size() == 2 || k.size() == 3) && newly_flat.count(entity_of(k))) {
+          todo.push_back(t);
+          break;
+        }
+      }
+    core::log_verbose("revert round " + std::to_string(round + 1) + ": " + std::to_string(newly_flat.size()) + " boundary edges/faces flat again, " +
+                      std::to_string(todo.size()) + " tets redone");
+  }
+  if (!curved.empty()) {
+    // A boundary face counts as curved if its interior (n >= 3) or any of its edges is curved.
+    for (const auto& bf : bfaces) {
+      EntityKey f;
+      for (int j = 0; j < 4; ++j)
+        if (j != bf[1]) f.push_back(mesh.tets[bf[0]][j]);
+      std::sort(f.begin(), f.end());
+      const EntityKey edges[3] = {{f[0], f[1]}, {f[0], f[2]}, {f[1], f[2]}};
+      bool reverted = flat.count(f) > 0;
+      for (const auto& e : edges) reverted = reverted || flat.count(e) > 0;
+      (reverted ? r.boundary_faces_reverted : r.boundary_faces_curved)++;
+    }
+  }
+  r.tets = tets;
+  return tets;
+}
+
+void convert_and_measure(Result& r, const Mesh& surface, const std::vector<std::array<int, 2>>& bfaces, const Params& params) {
+  check_params(params);
+  const int nt = static_cast<int>(r.tets.size());
+  if (r.hexes.size() != 4 * r.tets.size()) {
+    core::LogSection s("Bézier tets → 4 hexes (Theorem 3), certified");
+    r.hexes.assign(4 * nt, {});
+    r.validity.assign(4 * nt, 0);
+    core::Progress progress("tets", nt);
+    for (int t = 0; t < nt; ++t) {
+      convert_certify(r.tets[t], params.certify, &r.hexes[4 * t], &r.validity[4 * t]);
+      progress.step(t + 1);
+    }
+    progress.finish();
+  }
+  r.certified_valid = r.certified_invalid = r.undecided = 0;
+  for (int v : r.validity)
+    (v == static_cast<int>(bezier::Validity::valid) ? r.certified_valid : v == static_cast<int>(bezier::Validity::invalid) ? r.certified_invalid : r.undecided)++;
+  const int gp = params.gauss_points > 0 ? params.gauss_points : r.degree + 1;
+  {
+    core::LogSection s("scaled Jacobian at corners and Gauss points");
+    r.min_scaled = 1, r.max_scaled = -1;
+    r.min_scaled_jacobian.clear(), r.max_scaled_jacobian.clear();
+    for (const auto& h : r.hexes) {
+      const auto js = bezier::sample_jacobian(h, gp);
+      r.min_scaled_jacobian.push_back(js.min_scaled);
+      r.max_scaled_jacobian.push_back(js.max_scaled);
+      r.min_scaled = std::min(r.min_scaled, js.min_scaled);
+      r.max_scaled = std::max(r.max_scaled, js.max_scaled);
+    }
+  }
+  core::LogSection s("boundary deviation and volume");
+  Tree tree(faces(surface).first, faces(surface).second, surface);
+  tree.accelerate_distance_queries();
+  const double diag = surface::bbox_diagonal(surface);
+  const int m = params.boundary_samples;
+  r.boundary_distance.assign(r.hexes.size(), 0.0);
+  double worst = 0;
+  for (const auto& bf : bfaces)
+    for (int c = 0; c < 4; ++c) {
+      if (c == bf[1]) continue;
+      const int e = 4 * bf[0] + c, axis = axis_towards(c, bf[1]);
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) {
+          Eigen::Vector3d uvw;
+          uvw[axis] = 0;
+          uvw[(axis + 1) % 3] = double(a) / (m - 1);
+          uvw[(axis + 2) % 3] = double(b) / (m - 1);
+          const Eigen::Vector3d x = bezier::evaluate(r.hexes[e], uvw);
+          const double d = std::sqrt(tree.squared_distance(surface::Point(x[0], x[1], x[2])));
+          r.boundary_distance[e] = std::max(r.boundary_distance[e], d);
+        }
+      worst = std::max(worst, r.boundary_distance[e]);
+    }
+  r.hausdorff_rel = worst / diag;
+  r.spline_volume = 0;
+  for (const auto& h : r.hexes) r.spline_volume += bezier::volume(h, r.degree + 2);
+  r.surface_volume = PMP::volume(surface);
+  r.volume_rel_error = std::abs(r.spline_volume - r.surface_volume) / std::abs(r.surface_volume);
+}
+
+Result run(const Mesh& input, const Params& params) {
+  check_params(params);
+  Result r;
+  Mesh surf = input;
+  if (params.remesh_edge_rel > 0) {
+    core::LogSection s("remesh the surface (CGAL isotropic remeshing)");
+    surf = remesh(input, params.remesh_edge_rel);
+    core::log(std::to_string(surf.number_of_faces()) + " triangles after remeshing");
+  }
+  r.surface_triangles = static_cast<int>(surf.number_of_faces());
+  TetMesh mesh;
+  {
+    core::LogSection s("tetrahedralize (TetGen)");
+    mesh = tetrahedralize(surf, params.tetgen);
+    core::log(std::to_string(mesh.tets.size()) + " tets, " + std::to_string(mesh.points.size()) + " vertices");
+  }
+  bezier_tets(mesh, input, params, r);
+  convert_and_measure(r, input, boundary_faces(mesh), params);
+  return r;
+}
+
+Result run(const std::vector<bezier::BezierTet>& tets, const Params& params) {
+  check_params(params);
+  if (tets.empty()) throw core::InvalidInputError("no tetrahedra");
+  Result r;
+  r.degree = std::max(tets[0].degree, params.degree);
+  for (const auto& t : tets) r.tets.push_back(t.degree < r.degree ? bezier::elevate_degree(t, r.degree) : t);
+  const TetMesh corners = corner_mesh(tets);
+  const auto bfaces = boundary_faces(corners);
+  r.boundary_faces = static_cast<int>(bfaces.size());
+  const Mesh surf = boundary_surface(corners, bfaces);
+  r.surface_triangles = static_cast<int>(surf.number_of_faces());
+  convert_and_measure(r, surf, bfaces, params);
+  return r;
+}
+
+core::Json report_figures(const Result& r) {
+  return core::Json{{"bezier_elements", r.hexes.size()},
+                    {"degree", r.degree},
+                    {"min_scaled_jacobian", r.min_scaled},
+                    {"max_scaled_jacobian", r.max_scaled},
+                    {"hausdorff_rel", r.hausdorff_rel},
+                    {"volume_rel_error", r.volume_rel_error},
+                    {"spline_volume", r.spline_volume},
+                    {"surface_volume", r.surface_volume},
+                    {"tets", r.tets.size()},
+                    {"surface_triangles", r.surface_triangles},
+                    {"certified_valid", r.certified_valid},
+                    {"certified_invalid", r.certified_invalid},
+                    {"undecided", r.undecided},
+                    {"boundary_faces", r.boundary_faces},
+                    {"boundary_faces_curved", r.boundary_faces_curved},
+                    {"boundary_faces_reverted", r.boundary_faces_reverted}};
+}
+
+void write_bezier_vtu(const std::string& path, const Result& r) {
+  std::vector<double> validity(r.validity.begin(), r.validity.end()), tet(r.hexes.size());
+  for (std::size_t e = 0; e < tet.size(); ++e) tet[e] = static_cast<double>(e / 4);
+  bezier::write_bezier_vtu(path, r.hexes,
+                           {{"min_scaled_jacobian", 1, r.min_scaled_jacobian},
+                            {"max_scaled_jacobian", 1, r.max_scaled_jacobian},
+                            {"boundary_distance", 1, r.boundary_distance},
+                            {"status", 1, validity},
+                            {"tet", 1, tet}});
+}
+
+}  // namespace volts::tet2hex

@@ -1,0 +1,77 @@
+// volts::tet2hex — the tet route: any closed surface → TetGen tetrahedra → Bézier tets of degree n
+// (optionally with the boundary curved onto the input surface) → four Bézier hexes per tet
+// (Xu et al. 2018, Theorem 3; see tet2hex/convert.h) → certified validity, quality figures, export.
+// Reported with the same keys as extract (stage 5), so both routes compare line by line.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "bezier/bezier_hex.h"
+#include "bezier/bezier_tet.h"
+#include "bezier/certify.h"
+#include "core/stage_file.h"
+#include "surface/surface.h"
+#include "tet2hex/tet_mesh.h"
+
+namespace volts::tet2hex {
+
+/// Parameters of the tet route (config section `tet2hex`).
+struct Params {
+  TetgenParams tetgen;           ///< TetGen quality switches
+  double remesh_edge_rel = 0.0;  ///< if > 0: remesh the surface isotropically first (CGAL) to this edge length / bbox diagonal [0, 0.5]; sharp edges kept
+  int degree = 3;                ///< degree n of the tets and hexes [1, 4]
+  bool curve_boundary = true;    ///< n >= 2: move boundary control points onto the input surface (interpolating it at the Lagrange nodes); reverted where not certified valid
+  int gauss_points = 0;          ///< Gauss points per direction for the sampled scaled Jacobian; 0 = degree + 1 [0, 10]
+  int boundary_samples = 8;      ///< samples per direction on each boundary hex face for hausdorff_rel [2, 64]
+  bezier::CertifyParams certify; ///< certification of det J > 0 (bezier/certify.h)
+};
+
+struct Result {
+  std::vector<bezier::BezierTet> tets;      ///< the Bézier tets that were converted
+  std::vector<bezier::BezierHex> hexes;     ///< 4 per tet, tet t's are 4t..4t+3
+  std::vector<int> validity;                ///< per hex: bezier::Validity (1 valid, -1 invalid, 0 undecided)
+  std::vector<double> min_scaled_jacobian;  ///< per hex, sampled at corners and Gauss points
+  std::vector<double> max_scaled_jacobian;
+  std::vector<double> boundary_distance;    ///< per hex: max sampled distance of its boundary faces to the surface (0 inside)
+  int degree = 3;
+  int certified_valid = 0, certified_invalid = 0, undecided = 0;
+  int boundary_faces = 0;          ///< tet faces on the boundary
+  int boundary_faces_curved = 0;   ///< of those, curved onto the surface and kept
+  int boundary_faces_reverted = 0; ///< curved, then put back flat because a tet on them was not certified valid
+  int surface_triangles = 0;       ///< triangles given to TetGen (after remeshing)
+  double min_scaled = 0, max_scaled = 0;
+  double hausdorff_rel = 0;        ///< max distance hex boundary → input surface / bbox diagonal (sampled)
+  double spline_volume = 0, surface_volume = 0, volume_rel_error = 0;
+};
+
+/// The Bézier tets of degree params.degree of `mesh`; with curve_boundary and degree >= 2, the
+/// control points of boundary edges and faces interpolate `surface` at the Lagrange nodes (closest
+/// points). Shared edges and faces get identical control points (conforming). Tets whose hexes
+/// are not certified valid get their boundary entities flat again, until every tet is valid; the
+/// counts go to `r` (boundary_faces*). Throws core::ConfigError for a degree out of range.
+std::vector<bezier::BezierTet> bezier_tets(const TetMesh& mesh, const surface::Mesh& surface, const Params& params, Result& r);
+
+/// Converts every tet into four hexes (Theorem 3), certifies them and measures them against
+/// `surface` (hausdorff_rel, volume). `boundary` lists the boundary tet faces as {tet, opposite vertex}.
+void convert_and_measure(Result& r, const surface::Mesh& surface, const std::vector<std::array<int, 2>>& boundary, const Params& params);
+
+/// The whole route for a closed surface: remesh (optional), tetrahedralize, Bézier tets, convert,
+/// certify, measure. Throws what tetrahedralize and bezier_tets throw.
+Result run(const surface::Mesh& surface, const Params& params);
+
+/// The route for given Bézier tets (a .vtu): convert, certify, measure against the boundary
+/// triangles of the tets' corners (the only surface there is). Throws core::InvalidInputError for
+/// no tets or tets whose corners do not form a closed boundary.
+Result run(const std::vector<bezier::BezierTet>& tets, const Params& params);
+
+/// Report keys: those of extract (bezier_elements, degree, min_scaled_jacobian, max_scaled_jacobian,
+/// hausdorff_rel, volume_rel_error, spline_volume, surface_volume) + tets, certified_valid,
+/// certified_invalid, undecided, boundary_faces, boundary_faces_curved, boundary_faces_reverted.
+core::Json report_figures(const Result& r);
+
+/// bezier.vtu: VTK_BEZIER_HEXAHEDRON cells with per-cell min/max scaled Jacobian, boundary
+/// distance, validity and the tet each came from.
+void write_bezier_vtu(const std::string& path, const Result& r);
+
+}  // namespace volts::tet2hex

@@ -1,0 +1,216 @@
+#include "tet2hex/tet_mesh.h"
+
+#define TETLIBRARY
+#include <tetgen.h>
+
+#include <vtkCellData.h>
+#include <vtkCellTypes.h>
+#include <vtkDataArray.h>
+#include <vtkHigherOrderTetra.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "core/errors.h"
+#include "core/log.h"
+
+namespace volts::tet2hex {
+namespace {
+
+double signed_volume6(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+  return (b - a).cross(c - a).dot(d - a);
+}
+
+std::string tetgen_reason(int code) {
+  switch (code) {
+    case 1: return "out of memory";
+    case 2: return "internal error";
+    case 3: return "the surface intersects itself";
+    case 4: return "an input feature is smaller than TetGen's tolerance";
+    case 5: return "two input facets are too close";
+    case 10: return "invalid input";
+    default: return "error code " + std::to_string(code);
+  }
+}
+
+}  // namespace
+
+TetMesh tetrahedralize(const surface::Mesh& surface, const TetgenParams& p) {
+  if (!(p.max_radius_edge_ratio == 0.0 || (p.max_radius_edge_ratio >= 1.1 && p.max_radius_edge_ratio <= 10.0)))
+    throw core::ConfigError("tet2hex.max_radius_edge_ratio must be 0 or in [1.1, 10]");
+  if (!(p.min_dihedral_deg >= 0.0 && p.min_dihedral_deg <= 30.0)) throw core::ConfigError("tet2hex.min_dihedral_deg must be in [0, 30]");
+  if (!(p.max_volume_rel >= 0.0 && p.max_volume_rel <= 1.0)) throw core::ConfigError("tet2hex.max_volume_rel must be in [0, 1]");
+
+  tetgenio in, out;
+  in.firstnumber = 0;
+  std::map<surface::Mesh::Vertex_index, int> id;
+  in.numberofpoints = static_cast<int>(surface.number_of_vertices());
+  in.pointlist = new REAL[3 * in.numberofpoints];
+  int k = 0;
+  for (auto v : surface.vertices()) {
+    const auto& q = surface.point(v);
+    in.pointlist[3 * k] = q.x(), in.pointlist[3 * k + 1] = q.y(), in.pointlist[3 * k + 2] = q.z();
+    id[v] = k++;
+  }
+  in.numberoffacets = static_cast<int>(surface.number_of_faces());
+  in.facetlist = new tetgenio::facet[in.numberoffacets];
+  k = 0;
+  for (auto f : surface.faces()) {
+    tetgenio::facet& fc = in.facetlist[k++];
+    tetgenio::init(&fc);
+    fc.numberofpolygons = 1;
+    fc.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&fc.polygonlist[0]);
+    std::vector<int> vs;
+    for (auto v : vertices_around_face(surface.halfedge(f), surface)) vs.push_back(id[v]);
+    fc.polygonlist[0].numberofvertices = static_cast<int>(vs.size());
+    fc.polygonlist[0].vertexlist = new int[vs.size()];
+    std::copy(vs.begin(), vs.end(), fc.polygonlist[0].vertexlist);
+  }
+
+  std::ostringstream sw;
+  sw << "pzQ";  // PLC, 0-based, quiet (TetGen prints to stdout otherwise)
+  if (p.max_radius_edge_ratio > 0) {
+    sw << "q" << p.max_radius_edge_ratio;
+    if (p.min_dihedral_deg > 0) sw << "/" << p.min_dihedral_deg;
+  }
+  if (p.max_volume_rel > 0) sw << "a" << p.max_volume_rel * std::abs(surface::signed_volume(surface));
+  if (p.keep_boundary) sw << "Y";
+  std::string switches = sw.str();
+  core::log_verbose("tetgen -" + switches);
+  try {
+    ::tetrahedralize(switches.data(), &in, &out);
+  } catch (int code) {
+    throw core::NumericalError("TetGen failed: " + tetgen_reason(code) + " (switches -" + switches + ")");
+  }
+  if (out.numberoftetrahedra <= 0 || out.numberofcorners < 4)
+    throw core::NumericalError("TetGen returned no tetrahedra (switches -" + switches + ")");
+
+  TetMesh m;
+  m.points.resize(out.numberofpoints);
+  for (int i = 0; i < out.numberofpoints; ++i)
+    m.points[i] = Eigen::Vector3d(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
+  m.tets.resize(out.numberoftetrahedra);
+  for (int t = 0; t < out.numberoftetrahedra; ++t) {
+    std::array<int, 4> c;
+    for (int j = 0; j < 4; ++j) c[j] = out.tetrahedronlist[t * out.numberofcorners + j];
+    const double v = signed_volume6(m.points[c[0]], m.points[c[1]], m.points[c[2]], m.points[c[3]]);
+    if (v < 0) std::swap(c[2], c[3]);
+    if (v == 0) throw core::NumericalError("TetGen returned a flat tetrahedron (" + std::to_string(t) + ")");
+    m.tets[t] = c;
+  }
+  return m;
+}
+
+std::vector<std::array<int, 2>> boundary_faces(const TetMesh& mesh) {
+  std::map<std::array<int, 3>, std::vector<std::array<int, 2>>> faces;
+  for (int t = 0; t < static_cast<int>(mesh.tets.size()); ++t)
+    for (int x = 0; x < 4; ++x) {
+      std::array<int, 3> f;
+      for (int j = 0, m = 0; j < 4; ++j)
+        if (j != x) f[m++] = mesh.tets[t][j];
+      std::sort(f.begin(), f.end());
+      faces[f].push_back({t, x});
+    }
+  std::vector<std::array<int, 2>> b;
+  for (const auto& kv : faces)
+    if (kv.second.size() == 1) b.push_back(kv.second[0]);
+  return b;
+}
+
+std::vector<bezier::BezierTet> linear_tets(const TetMesh& mesh) {
+  std::vector<bezier::BezierTet> r;
+  r.reserve(mesh.tets.size());
+  for (const auto& t : mesh.tets) {
+    bezier::BezierTet b;
+    b.degree = 1;
+    // simplex_index order for n = 1: a = 0 (vertex 0), u (1), v (2), w (3).
+    b.points = {mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]], mesh.points[t[3]]};
+    r.push_back(std::move(b));
+  }
+  return r;
+}
+
+std::vector<bezier::BezierTet> read_tet_vtu(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw core::InvalidInputError(path + ": no such file");
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  if (!reader->CanReadFile(path.c_str())) throw core::InvalidInputError(path + ": not a VTK XML unstructured grid (.vtu)");
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  if (reader->GetErrorCode() != 0) throw core::InvalidInputError(path + ": cannot be read as .vtu");
+  vtkUnstructuredGrid* g = reader->GetOutput();
+  if (!g || g->GetNumberOfCells() == 0) throw core::InvalidInputError(path + ": no cells");
+  vtkDataArray* degrees = g->GetCellData()->GetArray("HigherOrderDegrees");
+  vtkDataArray* weights = g->GetPointData()->GetArray("RationalWeights");
+  std::vector<bezier::BezierTet> tets;
+  int degree = -1;
+  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c) {
+    const int type = g->GetCellType(c);
+    vtkIdType npts = 0;
+    const vtkIdType* ids = nullptr;
+    g->GetCellPoints(c, npts, ids);
+    bezier::BezierTet t;
+    if (type == 10) {  // VTK_TETRA
+      t.degree = 1;
+      if (npts != 4) throw core::InvalidInputError(path + ": cell " + std::to_string(c) + ": a tetra with " + std::to_string(npts) + " points");
+    } else if (type == 78) {  // VTK_BEZIER_TETRAHEDRON
+      int n = -1;
+      if (degrees && degrees->GetNumberOfComponents() >= 1) n = static_cast<int>(std::lround(degrees->GetComponent(c, 0)));
+      if (n < 1)
+        for (int m = 1; m <= 20; ++m)
+          if (bezier::simplex_size(3, m) == npts) n = m;
+      if (n < 1 || bezier::simplex_size(3, n) != npts)
+        throw core::InvalidInputError(path + ": cell " + std::to_string(c) + ": " + std::to_string(npts) + " points is no Bézier tetrahedron");
+      t.degree = n;
+    } else {
+      throw core::InvalidInputError(path + ": cell " + std::to_string(c) + " has VTK type " + std::to_string(type) +
+                                    "; only tetrahedra (10) and Bézier tetrahedra (78) are read");
+    }
+    if (degree >= 0 && t.degree != degree) throw core::InvalidInputError(path + ": cells of different degrees (" + std::to_string(degree) + " and " + std::to_string(t.degree) + ")");
+    degree = t.degree;
+    t.points.resize(npts);
+    if (weights && type == 78) t.weights.resize(npts);
+    for (vtkIdType q = 0; q < npts; ++q) {
+      // VTK's barycentric index of point q: b[3] is the exponent of corner 0, b[0..2] those of
+      // corners 1..3 (vtkHigherOrderTetra: corner 0 has b = (0,0,0,n)).
+      vtkIdType b[4] = {0, 0, 0, 0};
+      if (type == 78) vtkHigherOrderTetra::BarycentricIndex(q, b, t.degree);
+      else if (q > 0) b[q - 1] = 1;
+      const int idx = bezier::simplex_index(3, t.degree, static_cast<int>(b[0]), static_cast<int>(b[1]), static_cast<int>(b[2]));
+      double x[3];
+      g->GetPoint(ids[q], x);
+      if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+        throw core::InvalidInputError(path + ": point " + std::to_string(ids[q]) + " is not finite");
+      t.points[idx] = Eigen::Vector3d(x[0], x[1], x[2]);
+      if (!t.weights.empty()) t.weights[idx] = weights->GetComponent(ids[q], 0);
+    }
+    try {
+      bezier::check(t);
+    } catch (const core::InvalidInputError& e) {
+      throw core::InvalidInputError(path + ": cell " + std::to_string(c) + ": " + e.what());
+    }
+    // Negative orientation (corner frame): swap the roles of v and w.
+    const int n = t.degree;
+    if (signed_volume6(t.points[0], t.points[bezier::simplex_index(3, n, n, 0, 0)], t.points[bezier::simplex_index(3, n, 0, n, 0)],
+                       t.points[bezier::simplex_index(3, n, 0, 0, n)]) < 0) {
+      bezier::BezierTet s = t;
+      for (const auto& a : bezier::simplex_multi_indices(3, n)) {
+        const int from = bezier::simplex_index(3, n, a[1], a[2], a[3]), to = bezier::simplex_index(3, n, a[1], a[3], a[2]);
+        s.points[to] = t.points[from];
+        if (!t.weights.empty()) s.weights[to] = t.weights[from];
+      }
+      t = std::move(s);
+    }
+    tets.push_back(std::move(t));
+  }
+  return tets;
+}
+
+}  // namespace volts::tet2hex
