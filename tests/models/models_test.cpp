@@ -281,15 +281,21 @@ TEST(Models, TrianglesAreReasonablyShaped) {
 }
 
 TEST(Models, SameParametersGiveTheSameMesh) {
-  for (const auto& name : volts::models::model_names()) {
-    const Mesh a = make(name, 8), b = make(name, 8);
-    ASSERT_EQ(a.number_of_vertices(), b.number_of_vertices()) << name;
-    ASSERT_EQ(a.number_of_faces(), b.number_of_faces()) << name;
-    for (const auto v : a.vertices()) ASSERT_EQ(a.point(v), b.point(v)) << name;
+  // Built again after other models (allocator state differs: the Boolean's output order depends on it).
+  const auto names = volts::models::model_names();
+  std::vector<Mesh> first;
+  for (const auto& name : names) first.push_back(make(name, 8));
+  for (std::size_t k = names.size(); k-- > 0;) {
+    const Mesh& a = first[k];
+    make(names[k], 4);
+    const Mesh b = make(names[k], 8);
+    ASSERT_EQ(a.number_of_vertices(), b.number_of_vertices()) << names[k];
+    ASSERT_EQ(a.number_of_faces(), b.number_of_faces()) << names[k];
+    for (const auto v : a.vertices()) ASSERT_EQ(a.point(v), b.point(v)) << names[k];
     for (const auto f : a.faces()) {
       const auto va = CGAL::vertices_around_face(a.halfedge(f), a);
       const auto vb = CGAL::vertices_around_face(b.halfedge(f), b);
-      ASSERT_TRUE(std::equal(va.begin(), va.end(), vb.begin(), vb.end())) << name;
+      ASSERT_TRUE(std::equal(va.begin(), va.end(), vb.begin(), vb.end())) << names[k];
     }
   }
 }
