@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <vector>
 
 #include "config/config.h"
@@ -28,17 +29,27 @@ const char* kUsage =
     "       volts --help | --version\n\n"
     "Runs the stages classify, split, polycube, tmesh, extract (one executable each, volts-STAGE)\n"
     "on the run described by CONFIG (YAML; see configs/default.yaml). Each stage reads the previous\n"
-    "stage's file in DIR and writes its own, so --from STAGE resumes from the files on disk.\n\n"
+    "stage's file in DIR and writes its own, so --from STAGE resumes from the files on disk.\n"
+    "With 'route: tet' in CONFIG the route is the single stage tet2hex (volts-tet2hex).\n\n"
     "  --workdir DIR   work directory (default: runs/<CONFIG name without extension>)\n"
     "  --from STAGE    first stage to run (default: classify)\n"
     "  --to STAGE      last stage to run (default: extract)\n\n"
     "DIR gets <stage>.stage.json, one ParaView file per stage, bezier.vtu, report.json and the\n"
     "effective config (config.yaml).\n";
 
-int stage_index(const std::string& name) {
-  for (int i = 0; i < 5; ++i)
-    if (name == pipeline::kStages[i]) return i;
-  throw core::UsageError("unknown stage '" + name + "'; stages are classify, split, polycube, tmesh, extract");
+// The stages of a route, in order.
+std::vector<std::string> route_stages(const std::string& route) {
+  if (route == "tet") return {"tet2hex"};
+  return std::vector<std::string>(std::begin(pipeline::kStages), std::end(pipeline::kStages));
+}
+
+int stage_index(const std::vector<std::string>& stages, const std::string& name) {
+  std::string list;
+  for (int i = 0; i < static_cast<int>(stages.size()); ++i) {
+    if (name == stages[i]) return i;
+    list += (i ? ", " : "") + stages[i];
+  }
+  throw core::UsageError("unknown stage '" + name + "'; the stages of this route are " + list);
 }
 
 int spawn(const std::vector<std::string>& args) {
@@ -63,34 +74,35 @@ std::string fmt(const core::Json& v) {
   return v.dump();
 }
 
-void print_summary(const std::string& workdir, int from, int to) {
+void print_summary(const std::string& workdir, const std::vector<std::string>& stages, int from, int to) {
   const core::Json r = core::read_report(workdir);
-  static const std::vector<std::vector<std::string>> keys = {
-      {"corners", "curves", "feature_curves", "difference_curves", "patches", "genus"},
-      {"components", "quad_patches"},
-      {"cubes", "flipped_surface_triangles", "max_angle_distortion_deg"},
-      {"nodes", "elements", "max_level", "min_scaled_jacobian_after"},
-      {"bezier_elements", "degree", "min_scaled_jacobian", "max_scaled_jacobian", "hausdorff_rel", "volume_rel_error"}};
+  static const std::map<std::string, std::vector<std::string>> keys = {
+      {"classify", {"corners", "curves", "feature_curves", "difference_curves", "patches", "genus"}},
+      {"split", {"components", "quad_patches"}},
+      {"polycube", {"cubes", "flipped_surface_triangles", "max_angle_distortion_deg"}},
+      {"tmesh", {"nodes", "elements", "max_level", "min_scaled_jacobian_after"}},
+      {"extract", {"bezier_elements", "degree", "min_scaled_jacobian", "max_scaled_jacobian", "hausdorff_rel", "volume_rel_error"}},
+      {"tet2hex", {"tets", "bezier_elements", "degree", "certified_valid", "min_scaled_jacobian", "hausdorff_rel", "volume_rel_error",
+                   "boundary_faces_reverted"}}};
   std::cout << "\nvolts summary (" << workdir << "/report.json)\n";
   std::printf("  %-9s %9s  %s\n", "stage", "time [s]", "figures");
   double total = 0;
   for (int i = from; i <= to; ++i) {
     const auto it = r.find("stages");
-    if (it == r.end() || !it->contains(pipeline::kStages[i])) continue;
-    const core::Json& s = (*it)[pipeline::kStages[i]];
+    if (it == r.end() || !it->contains(stages[i])) continue;
+    const core::Json& s = (*it)[stages[i]];
     std::string figs;
-    for (const auto& k : keys[i])
+    for (const auto& k : keys.at(stages[i]))
       if (s.contains(k)) figs += k + "=" + (k == "components" ? std::to_string(s[k].size()) : fmt(s[k])) + "  ";
     const double t = s.value("time_s", 0.0);
     total += t;
-    std::printf("  %-9s %9.3f  %s\n", pipeline::kStages[i], t, figs.c_str());
+    std::printf("  %-9s %9.3f  %s\n", stages[i].c_str(), t, figs.c_str());
   }
   std::printf("  %-9s %9.3f\n", "total", total);
 }
 
 int run(int argc, char** argv) {
-  std::string config_path, workdir, log_flag;
-  int from = 0, to = 4;
+  std::string config_path, workdir, log_flag, from_name, to_name;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -98,8 +110,8 @@ int run(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--workdir") workdir = value();
-    else if (a == "--from") from = stage_index(value());
-    else if (a == "--to") to = stage_index(value());
+    else if (a == "--from") from_name = value();
+    else if (a == "--to") to_name = value();
     else if (a == "-v" || a == "-q") log_flag = a;
     else if (a == "-h" || a == "--help") { std::cout << kUsage; return 0; }
     else if (!a.empty() && a[0] == '-') throw core::UsageError("unknown option '" + a + "'");
@@ -107,20 +119,23 @@ int run(int argc, char** argv) {
     else throw core::UsageError("more than one CONFIG given ('" + config_path + "', '" + a + "')");
   }
   if (config_path.empty()) throw core::UsageError("volts run needs a CONFIG file (see configs/default.yaml)");
-  if (from > to) throw core::UsageError("--from comes after --to");
   const config::Config cfg = config::load_config(config_path);  // fail early, before any stage runs
+  const std::vector<std::string> stages = route_stages(cfg.route);
+  const int from = from_name.empty() ? 0 : stage_index(stages, from_name);
+  const int to = to_name.empty() ? static_cast<int>(stages.size()) - 1 : stage_index(stages, to_name);
+  if (from > to) throw core::UsageError("--from comes after --to");
   if (workdir.empty()) workdir = (fs::path("runs") / fs::path(config_path).stem()).string();
   fs::create_directories(workdir);
   if (from > 0) {
-    const std::string needed = pipeline::stage_file(workdir, pipeline::kStages[from - 1]);
+    const std::string needed = pipeline::stage_file(workdir, stages[from - 1]);
     if (!fs::exists(needed))
       throw core::InvalidInputError(needed + ": missing; run the earlier stages first (volts run " + config_path +
-                                    " --workdir " + workdir + " --to " + pipeline::kStages[from - 1] + ")");
+                                    " --workdir " + workdir + " --to " + stages[from - 1] + ")");
   }
   core::write_text_atomically((fs::path(workdir) / "config.yaml").string(), config::to_yaml(cfg));
   const fs::path bindir = fs::canonical("/proc/self/exe").parent_path();
   for (int i = from; i <= to; ++i) {
-    const std::string stage = pipeline::kStages[i];
+    const std::string& stage = stages[i];
     std::vector<std::string> args = {(bindir / ("volts-" + stage)).string(), "--config", config_path, "--workdir", workdir};
     if (!log_flag.empty()) args.push_back(log_flag);
     core::log("stage " + stage);
@@ -131,9 +146,9 @@ int run(int argc, char** argv) {
       return rc;
     }
   }
-  print_summary(workdir, from, to);
+  print_summary(workdir, stages, from, to);
   const fs::path vtu = fs::path(workdir) / "bezier.vtu";
-  if (to == 4 && fs::exists(vtu)) std::cout << "\nopen in ParaView: " << fs::absolute(vtu).string() << "\n";
+  if (to == static_cast<int>(stages.size()) - 1 && fs::exists(vtu)) std::cout << "\nopen in ParaView: " << fs::absolute(vtu).string() << "\n";
   return 0;
 }
 

@@ -36,6 +36,16 @@ class Section {
     }
   }
 
+  void get(const std::string& key, bool& value) {
+    YAML::Node n = lookup(key);
+    if (!n.IsDefined()) return;
+    try {
+      value = n.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail_key(key, "must be true or false, got '" + scalar(n) + "'");
+    }
+  }
+
   void get(const std::string& key, int& value, int lo, int hi) {
     YAML::Node n = lookup(key);
     if (!n.IsDefined()) return;
@@ -104,7 +114,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
   Config c;
   c.source = source;
   Section top(root, "", source);
-  top.get("route", c.route, {"polycube"});
+  top.get("route", c.route, {"polycube", "tet"});
   {
     Section s = top.section("input");
     s.get("file", c.input.file);
@@ -137,6 +147,23 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     Section s = top.section("extract");
     s.get("gauss_points", c.extract.gauss_points, 0, 10);
     s.get("boundary_samples", c.extract.boundary_samples, 2, 64);
+    s.finish();
+  }
+  {
+    Section s = top.section("tet2hex");
+    auto& t = c.tet2hex;
+    s.get("max_radius_edge_ratio", t.tetgen.max_radius_edge_ratio, 0.0, 10.0);
+    if (t.tetgen.max_radius_edge_ratio > 0 && t.tetgen.max_radius_edge_ratio < 1.1)
+      throw core::ConfigError(source + ": tet2hex.max_radius_edge_ratio: must be 0 (off) or in [1.1, 10]");
+    s.get("min_dihedral_deg", t.tetgen.min_dihedral_deg, 0.0, 30.0);
+    s.get("max_volume_rel", t.tetgen.max_volume_rel, 0.0, 1.0);
+    s.get("keep_boundary", t.tetgen.keep_boundary);
+    s.get("remesh_edge_rel", t.remesh_edge_rel, 0.0, 0.5);
+    s.get("degree", t.degree, 1, 4);
+    s.get("curve_boundary", t.curve_boundary);
+    s.get("gauss_points", t.gauss_points, 0, 10);
+    s.get("boundary_samples", t.boundary_samples, 2, 64);
+    s.get("certify_max_depth", t.certify.max_depth, 0, 20);
     s.finish();
   }
   top.finish();
@@ -183,6 +210,18 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples << YAML::EndMap;
+  const auto& t = c.tet2hex;
+  e << YAML::Key << "tet2hex" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "max_radius_edge_ratio" << YAML::Value << t.tetgen.max_radius_edge_ratio;
+  e << YAML::Key << "min_dihedral_deg" << YAML::Value << t.tetgen.min_dihedral_deg;
+  e << YAML::Key << "max_volume_rel" << YAML::Value << t.tetgen.max_volume_rel;
+  e << YAML::Key << "keep_boundary" << YAML::Value << t.tetgen.keep_boundary;
+  e << YAML::Key << "remesh_edge_rel" << YAML::Value << t.remesh_edge_rel;
+  e << YAML::Key << "degree" << YAML::Value << t.degree;
+  e << YAML::Key << "curve_boundary" << YAML::Value << t.curve_boundary;
+  e << YAML::Key << "gauss_points" << YAML::Value << t.gauss_points;
+  e << YAML::Key << "boundary_samples" << YAML::Value << t.boundary_samples;
+  e << YAML::Key << "certify_max_depth" << YAML::Value << t.certify.max_depth << YAML::EndMap;
   e << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }

@@ -12,6 +12,7 @@
 #include "split/split.h"
 #include "tmesh/tmesh.h"
 #include "extract/extract.h"
+#include "tet2hex/tet2hex.h"
 
 namespace volts::config {
 
@@ -25,13 +26,14 @@ struct InputParams {
 
 struct Config {
   std::string source;  ///< path of the file it was read from ("" for defaults)
-  std::string route = "polycube";  ///< pipeline route; only "polycube" so far
+  std::string route = "polycube";  ///< pipeline route: "polycube" (the five stages) or "tet" (volts-tet2hex)
   InputParams input;
   classify::Params classify;
   split::Params split;
   polycube::Params polycube;
   tmesh::Params tmesh;
   extract::Params extract;
+  tet2hex::Params tet2hex;  ///< route "tet"
 };
 
 /// Reads and checks a config file. Throws core::ConfigError ("FILE: key.path: problem") or
