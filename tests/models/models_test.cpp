@@ -6,6 +6,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -109,7 +110,10 @@ TEST(Models, EveryModelIsAValidClosedSurfaceOfItsGenus) {
       // Written and read back: read_surface validates (closed, manifold, oriented, no degenerate faces).
       const auto path = (temp_dir() / (name + "-" + std::to_string(r) + ".off")).string();
       volts::surface::write_surface(path, mesh);
-      const Mesh back = volts::surface::read_surface(path);
+      volts::surface::ReadInfo info;
+      const Mesh back = volts::surface::read_surface(path, &info);
+      EXPECT_FALSE(info.flipped) << "inward";
+      EXPECT_EQ(info.welded_vertices, 0u) << "coincident vertices";
       EXPECT_EQ(back.number_of_vertices(), mesh.number_of_vertices());
       EXPECT_EQ(back.number_of_faces(), mesh.number_of_faces());
       EXPECT_TRUE(CGAL::is_closed(mesh));
