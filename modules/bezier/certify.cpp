@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bezier/jacobian_bernstein.h"
+#include "bezier/quadrature.h"
 #include "core/errors.h"
 
 namespace volts::bezier {
@@ -102,6 +103,29 @@ struct HexSearch {
   }
 };
 
+double mean(const std::vector<double>& c) {
+  double s = 0;
+  for (double v : c) s += v;
+  return c.empty() ? 0.0 : s / static_cast<double>(c.size());
+}
+
+// ∫ det J / (1/6) over the unit tet by Gauss–Legendre on the cube collapsed onto it (Duffy):
+// (a,b,c) -> (a, b(1-a), c(1-a)(1-b)), Jacobian (1-a)^2 (1-b).
+double rational_tet_mean(const BezierTet& t) {
+  const int n = 2 * t.degree + 2;
+  const std::vector<double> g = gauss_legendre_points(n), w = gauss_legendre_weights(n);
+  double s = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const double a = g[i], b = g[j], c = g[k];
+        Eigen::Matrix3d J;
+        evaluate(t, Eigen::Vector3d(a, b * (1 - a), c * (1 - a) * (1 - b)), &J);
+        s += w[i] * w[j] * w[k] * (1 - a) * (1 - a) * (1 - b) * J.determinant();
+      }
+  return 6 * s;
+}
+
 CertifyResult finish(CertifyResult res, bool invalid, bool undecided, double lower, double root_min) {
   res.status = invalid ? Validity::invalid : undecided ? Validity::undecided : Validity::valid;
   res.min_detj_lower = invalid ? root_min : lower;  // the root's coefficients bound everything
@@ -127,6 +151,7 @@ CertifyResult certify_hex_poly(const TensorBernstein& f, const CertifyParams& pa
   if (ws.tmp.size() < 6 * static_cast<std::size_t>(s.size)) ws.tmp.resize(6 * static_cast<std::size_t>(s.size));
   s.res.min_detj_upper = kInf;
   s.visit(f.coefs.data(), 0, Eigen::Vector3d::Zero(), 1.0);
+  s.res.mean_detj = mean(f.coefs);
   return finish(s.res, s.invalid, s.undecided, s.lower, root_min);
 }
 
@@ -202,7 +227,9 @@ CertifyResult certify(const BezierHex& hex, const CertifyParams& params) {
   TensorBernstein W;
   W.degree = hex.degree;
   W.coefs = hex.weights;
-  return rational_bounds(r, hex.weights, W);
+  CertifyResult rr = rational_bounds(r, hex.weights, W);
+  rr.mean_detj = volume(hex, 2 * std::max({hex.degree[0], hex.degree[1], hex.degree[2]}) + 2);
+  return rr;
 }
 
 CertifyResult certify(const SimplexBernstein& f, const CertifyParams& params) {
@@ -216,6 +243,7 @@ CertifyResult certify(const SimplexBernstein& f, const CertifyParams& params) {
   s.tol = params.rounding_rel * amax;
   s.res.min_detj_upper = kInf;
   s.visit(f.coefs, 0, {Eigen::Vector4d::Unit(0), Eigen::Vector4d::Unit(1), Eigen::Vector4d::Unit(2), Eigen::Vector4d::Unit(3)});
+  s.res.mean_detj = mean(f.coefs);
   return finish(s.res, s.invalid, s.undecided, s.lower, *std::min_element(f.coefs.begin(), f.coefs.end()));
 }
 
@@ -225,7 +253,9 @@ CertifyResult certify(const BezierTet& tet, const CertifyParams& params) {
   SimplexBernstein W;
   W.degree = tet.degree;
   W.coefs = tet.weights;
-  return rational_bounds(r, tet.weights, W);
+  CertifyResult rr = rational_bounds(r, tet.weights, W);
+  rr.mean_detj = rational_tet_mean(tet);
+  return rr;
 }
 
 }  // namespace volts::bezier

@@ -9,8 +9,8 @@
 // max_depth, then undecided with the interval [lower, upper] found for min det J.
 //
 // Degree reduction (§6) is not implemented: on the benchmark (bench/bench_certify) no element of
-// the valid set needs subdivision, so reducing degrees after subdividing cannot speed it up;
-// computing the coefficients dominates (see docs/certify.md).
+// the valid set needs subdivision, so reducing degrees after subdividing cannot speed it up, and
+// bound (60) has an unstated constant (measurements in docs/certify.md).
 //
 // Floating point: a coefficient counts as positive only above rounding_rel · max|c|, so rounding
 // in the products cannot certify a slightly negative element; point values are used as computed.
@@ -41,6 +41,11 @@ struct CertifyResult {
   double min_detj_lower = 0;
   double min_detj_upper = 0;
   Eigen::Vector3d witness = Eigen::Vector3d::Zero();  ///< parametric point where det J = min_detj_upper
+  /// Mean of det J over the reference element (= volume / reference volume): the element's size,
+  /// to make the bounds relative. Exact for polynomial elements (the mean of the Bernstein
+  /// coefficients); Gauss quadrature (degree 2·max degree + 2 per direction, Duffy-collapsed on
+  /// tets) for rational ones.
+  double mean_detj = 0;
   int depth = 0;         ///< deepest subdivision level visited
   int subdivisions = 0;  ///< number of (sub)elements split
 };

@@ -1,5 +1,6 @@
 // volts::bezier — export of Bézier hexahedra for ParaView: VTK XML unstructured grid (.vtu) of
-// VTK_BEZIER_HEXAHEDRON (79) cells with the HigherOrderDegrees and RationalWeights arrays.
+// VTK_BEZIER_HEXAHEDRON (79) cells with the HigherOrderDegrees and RationalWeights arrays; and
+// import of Bézier/Lagrange hexahedra and tetrahedra from any .vtu (for volts-check).
 //
 // Written with VTK's own vtkXMLUnstructuredGridWriter (VTK >= 9.1), appended raw binary, zlib
 // compressed, Float64 points. That writer already stamps the file version="2.2" and declares both
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "bezier/bezier_hex.h"
+#include "bezier/bezier_tet.h"
 
 namespace volts::bezier {
 
@@ -22,6 +24,10 @@ namespace volts::bezier {
 /// (= vtkHigherOrderHexahedron::PointIndexFromIJK, VTK 9 numbering): 8 corners, 12 edges,
 /// 6 faces, interior. Throws core::InvalidInputError if (i,j,k) is out of range or a degree < 1.
 int vtk_hex_point_index(int i, int j, int k, const std::array<int, 3>& degree);
+
+/// Position of control point (a1,a2,a3) (exponents of u,v,w) of a degree-n tetrahedron in VTK's
+/// point order (vtkHigherOrderTetra::Index): corners, edges, faces, interior.
+int vtk_tet_point_index(int a1, int a2, int a3, int degree);
 
 /// A per-cell field: `components` values per hex, hex after hex.
 struct CellArray {
@@ -38,5 +44,30 @@ struct CellArray {
 /// name), core::IoError if the file cannot be written (no temporary file is left behind).
 void write_bezier_vtu(const std::string& path, const std::vector<BezierHex>& hexes,
                       const std::vector<CellArray>& cell_arrays = {});
+
+/// The elements of a .vtu, in cell order.
+struct VtuElements {
+  std::vector<BezierHex> hexes;
+  std::vector<BezierTet> tets;
+  std::vector<int> vtk_type;  ///< per cell: the VTK cell type as read
+  std::vector<int> element;   ///< per cell: index into hexes (hexahedra) or tets (tetrahedra)
+  bool is_tet(int cell) const { return vtk_type[cell] == 78 || vtk_type[cell] == 71 || vtk_type[cell] == 10; }
+};
+
+/// Reads every cell of a VTK XML unstructured grid as a Bézier element (with VTK's own reader, so
+/// files older than version 2.1 get VTK's renumbering of higher-order hexahedra):
+///  * 79 Bézier hexahedron, 78 Bézier tetrahedron: degrees from the active HigherOrderDegrees cell
+///    array when present (else from the point count), weights from the active RationalWeights point
+///    array when present (all 1 → polynomial);
+///  * 72 Lagrange hexahedron, 71 Lagrange tetrahedron (equispaced nodes, VTK order), 12 hexahedron,
+///    10 tetrahedron: converted exactly to Bézier form (inverse Bernstein collocation).
+/// Throws core::InvalidInputError naming the file for a missing, unreadable or malformed file, and
+/// naming the cell for a cell of another type or an inconsistent point count/degree.
+VtuElements read_bezier_vtu(const std::string& path);
+
+/// Copies the .vtu at `in` to `out` (atomically) with these cell arrays added (replacing arrays of
+/// the same name). Throws as read_bezier_vtu for `in`, InvalidInputError for an array of the wrong
+/// size, core::IoError if `out` cannot be written.
+void write_vtu_with_cell_arrays(const std::string& in, const std::string& out, const std::vector<CellArray>& arrays);
 
 }  // namespace volts::bezier

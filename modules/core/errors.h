@@ -19,6 +19,7 @@ enum class ExitCode : int {
   topology = 5,       ///< valid input the algorithm cannot handle (e.g. not box-like)
   io = 6,             ///< an output could not be written
   numerical = 7,      ///< a solver failed or a result is invalid
+  not_certified = 8,  ///< volts-check: some element is invalid or undecided (not an error: a verdict)
 };
 
 /// Base of all volts errors.

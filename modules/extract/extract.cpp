@@ -7,9 +7,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "bezier/bspline.h"
 #include "bezier/bspline_volume.h"
+#include "bezier/certify.h"
 #include "bezier/vtk_bezier.h"
 #include "core/errors.h"
 #include "core/log.h"
@@ -45,6 +47,21 @@ Result extract(const tmesh::TMesh& t, const Mesh& surface, const Params& params)
       r.min_scaled = std::min(r.min_scaled, js.min_scaled);
       r.max_scaled = std::max(r.max_scaled, js.max_scaled);
     }
+  }
+  {
+    // Certified sign of det J (Randrianarivony 2008 §4): the sampled figures above can miss a fold.
+    core::LogSection s("certified Jacobian validity");
+    r.certified_min_detj_rel = std::numeric_limits<double>::infinity();
+    for (const auto& h : r.hexes) {
+      const bezier::CertifyResult c = bezier::certify(h);
+      r.status.push_back(static_cast<int>(c.status));
+      r.certified_min_detj.push_back(c.min_detj_lower);
+      r.certified_valid += c.status == bezier::Validity::valid;
+      r.certified_invalid += c.status == bezier::Validity::invalid;
+      r.undecided += c.status == bezier::Validity::undecided;
+      if (c.mean_detj != 0) r.certified_min_detj_rel = std::min(r.certified_min_detj_rel, c.min_detj_lower / std::abs(c.mean_detj));
+    }
+    if (r.hexes.empty()) r.certified_min_detj_rel = 0;
   }
   {
     core::LogSection s("boundary deviation and volume");
@@ -92,13 +109,17 @@ core::Json report_figures(const Result& r) {
   return core::Json{{"bezier_elements", r.hexes.size()},   {"degree", r.degree},
                     {"min_scaled_jacobian", r.min_scaled}, {"max_scaled_jacobian", r.max_scaled},
                     {"hausdorff_rel", r.hausdorff_rel},    {"volume_rel_error", r.volume_rel_error},
-                    {"spline_volume", r.spline_volume},    {"surface_volume", r.surface_volume}};
+                    {"spline_volume", r.spline_volume},    {"surface_volume", r.surface_volume},
+                    {"certified_valid", r.certified_valid}, {"certified_invalid", r.certified_invalid},
+                    {"undecided", r.undecided},            {"certified_min_detj_rel", r.certified_min_detj_rel}};
 }
 
 void write_bezier_vtu(const std::string& path, const Result& r) {
   std::vector<bezier::CellArray> cells = {{"min_scaled_jacobian", 1, r.min_scaled_jacobian},
                                           {"max_scaled_jacobian", 1, r.max_scaled_jacobian},
-                                          {"boundary_distance", 1, r.boundary_distance}};
+                                          {"boundary_distance", 1, r.boundary_distance},
+                                          {"status", 1, std::vector<double>(r.status.begin(), r.status.end())},
+                                          {"certified_min_detj", 1, r.certified_min_detj}};
   bezier::write_bezier_vtu(path, r.hexes, cells);
 }
 

@@ -28,6 +28,10 @@ struct Result {
   std::vector<double> min_scaled_jacobian;  ///< per element, sampled
   std::vector<double> max_scaled_jacobian;  ///< per element, sampled
   std::vector<double> boundary_distance;    ///< per element: max sampled distance of its boundary faces to the surface (0 inside)
+  std::vector<int> status;                  ///< per element: bezier::Validity (1 valid, -1 invalid, 0 undecided)
+  std::vector<double> certified_min_detj;   ///< per element: certified lower bound of min det J (bezier::certify)
+  int certified_valid = 0, certified_invalid = 0, undecided = 0;
+  double certified_min_detj_rel = 0;  ///< min over elements of (lower bound of min det J) / (element's mean det J)
   int degree = 3;
   double min_scaled = 0, max_scaled = 0;
   double hausdorff_rel = 0;     ///< max distance spline boundary -> input surface / bbox diagonal (sampled)
@@ -40,10 +44,12 @@ struct Result {
 Result extract(const tmesh::TMesh& t, const surface::Mesh& surface, const Params& params);
 
 /// Report keys: bezier_elements, degree, min_scaled_jacobian, max_scaled_jacobian, hausdorff_rel,
-/// volume_rel_error (+ spline_volume, surface_volume).
+/// volume_rel_error (+ spline_volume, surface_volume), certified_valid, certified_invalid,
+/// undecided, certified_min_detj_rel.
 core::Json report_figures(const Result& r);
 
-/// bezier.vtu: VTK_BEZIER_HEXAHEDRON cells with per-cell min/max scaled Jacobian and boundary distance.
+/// bezier.vtu: VTK_BEZIER_HEXAHEDRON cells with per-cell min/max scaled Jacobian, boundary distance,
+/// certification status and certified_min_detj.
 void write_bezier_vtu(const std::string& path, const Result& r);
 
 }  // namespace volts::extract

@@ -61,6 +61,8 @@ TEST(Certify, RandomValidHexesAreValidAndBoundsEncloseSamples) {
     EXPECT_GT(r.min_detj_lower, 0);
     EXPECT_NEAR(r.min_detj_upper, det_at(h, r.witness), 1e-12 * std::abs(r.min_detj_upper));
     EXPECT_LE(r.min_detj_lower, r.min_detj_upper);
+    // The mean is the volume (reference volume 1); Gauss with 6 points is exact for polynomial det J.
+    EXPECT_NEAR(r.mean_detj, volume(h, 6), (rational ? 1e-6 : 1e-12) * r.mean_detj);
   }
 }
 
