@@ -30,7 +30,7 @@ struct ReadInfo {
   bool flipped = false;                ///< the mesh was globally inverted (inward normals) and was flipped
 };
 
-/// Reads OFF, OBJ, STL (ASCII and binary) or PLY (ASCII and binary), chosen by the extension
+/// Reads OFF (ASCII), OBJ, STL (ASCII and binary) or PLY (ASCII and binary), chosen by the extension
 /// (case-insensitive); welds duplicate vertices, drops unused ones, validates (see validate_soup),
 /// triangulates polygons and flips a globally inverted surface (info->flipped is then set; the
 /// caller logs it).
