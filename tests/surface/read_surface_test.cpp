@@ -338,6 +338,8 @@ struct Model {
   int genus;
 };
 
+void PrintTo(const Model& m, std::ostream* os) { *os << m.file; }
+
 class RealModel : public ::testing::TestWithParam<Model> {};
 
 TEST_P(RealModel, ReadsAndValidates) {
