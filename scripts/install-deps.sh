@@ -16,7 +16,7 @@ PKGS=(
   libgtest-dev libgmock-dev
   python3
 )
-if [[ "${VOLTS_WITH_GMSH:-0}" == 1 ]]; then PKGS+=(gmsh); fi
+if [[ "${VOLTS_WITH_GMSH:-0}" == 1 ]]; then PKGS+=(gmsh libgmsh-dev); fi  # bench/bench_tet_route only
 
 missing=()
 for p in "${PKGS[@]}"; do

@@ -61,11 +61,34 @@ TEST(Config, WrongTypesAndRangesAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {level: 9}\n").find("tmesh.level: 9 is out of range [1, 7]"), std::string::npos);
   EXPECT_NE(config_error("classify: {sharp_angle_deg: 0}\n").find("classify.sharp_angle_deg: 0 is out of range"), std::string::npos);
   EXPECT_NE(config_error("classify: {sharp_angle_deg: .nan}\n").find("classify.sharp_angle_deg"), std::string::npos);
-  EXPECT_NE(config_error("route: magic\n").find("route: 'magic' is not one of: polycube"), std::string::npos);
+  EXPECT_NE(config_error("route: magic\n").find("route: 'magic' is not one of: polycube, tet"), std::string::npos);
   EXPECT_NE(config_error("tmesh: 3\n").find("tmesh: must be a mapping"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {level: }\n").find("tmesh.level: has no value"), std::string::npos);
   EXPECT_NE(config_error("input: {file: a.obj, generate: box}\n").find("not both"), std::string::npos);
   EXPECT_NE(config_error("tmesh: [1, 2\n").find("not valid YAML"), std::string::npos);
+}
+
+// Route tet: the tet2hex section, its defaults in configs/default.yaml, round trip and errors.
+TEST(Config, TetRouteSection) {
+  const config::Config file = config::load_config(std::string(VOLTS_SOURCE_DIR) + "/configs/default.yaml");
+  const config::Config builtin;
+  EXPECT_EQ(file.tet2hex.degree, builtin.tet2hex.degree);
+  EXPECT_EQ(file.tet2hex.curve_boundary, builtin.tet2hex.curve_boundary);
+  EXPECT_EQ(file.tet2hex.tetgen.keep_boundary, builtin.tet2hex.tetgen.keep_boundary);
+  EXPECT_DOUBLE_EQ(file.tet2hex.tetgen.max_radius_edge_ratio, builtin.tet2hex.tetgen.max_radius_edge_ratio);
+  EXPECT_DOUBLE_EQ(file.tet2hex.remesh_edge_rel, builtin.tet2hex.remesh_edge_rel);
+  EXPECT_EQ(file.tet2hex.certify.max_depth, builtin.tet2hex.certify.max_depth);
+  const auto c = config::parse_config("route: tet\ntet2hex: {degree: 2, curve_boundary: false, max_volume_rel: 0.01, remesh_edge_rel: 0.05}\n", "t");
+  const auto d = config::parse_config(config::to_yaml(c), "emitted");
+  EXPECT_EQ(d.route, "tet");
+  EXPECT_EQ(d.tet2hex.degree, 2);
+  EXPECT_FALSE(d.tet2hex.curve_boundary);
+  EXPECT_DOUBLE_EQ(d.tet2hex.tetgen.max_volume_rel, 0.01);
+  EXPECT_DOUBLE_EQ(d.tet2hex.remesh_edge_rel, 0.05);
+  EXPECT_NE(config_error("tet2hex: {degree: 5}\n").find("tet2hex.degree: 5 is out of range [1, 4]"), std::string::npos);
+  EXPECT_NE(config_error("tet2hex: {curve_boundary: maybe}\n").find("tet2hex.curve_boundary: must be true or false"), std::string::npos);
+  EXPECT_NE(config_error("tet2hex: {max_radius_edge_ratio: 1.0}\n").find("tet2hex.max_radius_edge_ratio"), std::string::npos);
+  EXPECT_NE(config_error("tet2hex: {degre: 2}\n").find("unknown key 'tet2hex.degre'"), std::string::npos);
 }
 
 TEST(Config, MissingFileIsInvalidInput) {
