@@ -147,6 +147,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     Section s = top.section("extract");
     s.get("gauss_points", c.extract.gauss_points, 0, 10);
     s.get("boundary_samples", c.extract.boundary_samples, 2, 64);
+    s.get("certify_max_depth", c.extract.certify.max_depth, 0, 20);
     s.finish();
   }
   {
@@ -209,7 +210,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "degree" << YAML::Value << c.tmesh.degree << YAML::EndMap;
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
-  e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples << YAML::EndMap;
+  e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;
+  e << YAML::Key << "certify_max_depth" << YAML::Value << c.extract.certify.max_depth << YAML::EndMap;
   const auto& t = c.tet2hex;
   e << YAML::Key << "tet2hex" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "max_radius_edge_ratio" << YAML::Value << t.tetgen.max_radius_edge_ratio;

@@ -53,7 +53,7 @@ Result extract(const tmesh::TMesh& t, const Mesh& surface, const Params& params)
     core::LogSection s("certified Jacobian validity");
     r.certified_min_detj_rel = std::numeric_limits<double>::infinity();
     for (const auto& h : r.hexes) {
-      const bezier::CertifyResult c = bezier::certify(h);
+      const bezier::CertifyResult c = bezier::certify(h, params.certify);
       r.status.push_back(static_cast<int>(c.status));
       r.certified_min_detj.push_back(c.min_detj_lower);
       r.certified_valid += c.status == bezier::Validity::valid;

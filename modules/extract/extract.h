@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bezier/bezier_hex.h"
+#include "bezier/certify.h"
 #include "core/stage_file.h"
 #include "surface/surface.h"
 #include "tmesh/tmesh.h"
@@ -21,6 +22,7 @@ namespace volts::extract {
 struct Params {
   int gauss_points = 0;       ///< Gauss points per direction for the Jacobian sample; 0 = degree + 1
   int boundary_samples = 8;   ///< samples per direction on each boundary element face (Hausdorff) [2, 64]
+  bezier::CertifyParams certify;  ///< certification of det J > 0 per element (max_depth: subdivision levels)
 };
 
 struct Result {

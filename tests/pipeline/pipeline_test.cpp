@@ -15,6 +15,7 @@
 #include <fstream>
 #include <sys/wait.h>
 
+#include "bezier/vtk_bezier.h"
 #include "core/atomic_file.h"
 #include "core/stage_file.h"
 
@@ -143,6 +144,27 @@ TEST_F(Skeleton, SameConfigGivesByteIdenticalFiles) {
     EXPECT_EQ(core::read_text_file((dir / "work" / f).string()), core::read_text_file((again / f).string())) << f << " differs";
 }
 
+TEST_F(Skeleton, VoltsCheckCertifiesEveryElementAndNamesAFoldedOne) {
+  ASSERT_EQ(result.code, 0) << result.output;
+  const fs::path vtu = dir / "work" / "bezier.vtu";
+  const Outcome ok = run(bin("volts-check") + " " + vtu.string());
+  EXPECT_EQ(ok.code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("512 certified valid, 0 invalid, 0 undecided"), std::string::npos) << ok.output;
+  // Fold element 137: push an interior control point far back along u, past its neighbours.
+  bezier::VtuElements e = bezier::read_bezier_vtu(vtu.string());
+  ASSERT_EQ(e.hexes.size(), 512u);
+  bezier::BezierHex& h = e.hexes[137];
+  const Eigen::Vector3d du = h.points[h.index(3, 1, 1)] - h.points[h.index(0, 1, 1)];
+  h.points[h.index(1, 1, 1)] -= 3.0 * du;
+  const fs::path folded = dir / "folded.vtu";
+  bezier::write_bezier_vtu(folded.string(), e.hexes);
+  const Outcome bad = run(bin("volts-check") + " " + folded.string());
+  EXPECT_EQ(bad.code, 8) << bad.output;
+  EXPECT_NE(bad.output.find("cell 137"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("invalid"), std::string::npos) << bad.output;
+  EXPECT_EQ(bad.output.find("cell 136"), std::string::npos) << bad.output;
+}
+
 TEST(Pipeline, ResumeWithoutEarlierFilesNamesTheMissingFile) {
   const fs::path d = fresh_dir("resume_missing");
   write(d / "run.yaml", "input: {generate: box}\n");
@@ -205,7 +227,7 @@ TEST(Pipeline, SplitRefusesANonBoxSurfaceWithATopologyError) {
 }
 
 TEST(Pipeline, EveryExecutableHasHelp) {
-  for (const char* t : {"volts", "volts-classify", "volts-split", "volts-polycube", "volts-tmesh", "volts-extract", "volts-make-model"}) {
+  for (const char* t : {"volts", "volts-check", "volts-classify", "volts-split", "volts-polycube", "volts-tmesh", "volts-extract", "volts-make-model"}) {
     const Outcome r = run(bin(t) + " --help");
     EXPECT_EQ(r.code, 0) << t;
     EXPECT_NE(r.output.find("usage"), std::string::npos) << t << ": " << r.output;
