@@ -6,6 +6,7 @@
 
 #include "core/errors.h"
 #include "core/log.h"
+#include "models/models.h"
 
 namespace fs = std::filesystem;
 
@@ -20,6 +21,34 @@ std::string StageContext::input_file(const std::string& previous) const {
   return input.empty() ? stage_file(workdir, previous) : input;
 }
 std::string StageContext::output_file() const { return output.empty() ? stage_file(workdir, stage) : output; }
+
+surface::Mesh load_input_surface(const StageContext& ctx, core::Json* info) {
+  const auto& in = ctx.config.input;
+  const std::string file = ctx.input.empty() ? in.file : ctx.input;
+  surface::Mesh mesh;
+  core::Json j;
+  if (!file.empty()) {
+    surface::ReadInfo ri;
+    mesh = surface::read_surface(file, &ri);
+    if (ri.flipped) core::log_warning(file + ": the surface was inside out (inward normals); flipped it");
+    if (ri.welded_vertices) core::log(file + ": welded " + std::to_string(ri.welded_vertices) + " duplicate vertices");
+    j = {{"file", file}, {"format", ri.format}, {"flipped", ri.flipped}, {"welded_vertices", ri.welded_vertices}};
+  } else if (!in.generate.empty()) {
+    models::ModelParams mp;
+    mp.name = in.generate;
+    mp.resolution = in.resolution;
+    mp.bulge = in.bulge;
+    mesh = models::make_model(mp);
+    j = {{"generate", in.generate}, {"resolution", in.resolution}};
+  } else {
+    throw core::ConfigError("no input: set input.file or input.generate in the config, or pass --input FILE");
+  }
+  j["vertices"] = mesh.number_of_vertices();
+  j["faces"] = mesh.number_of_faces();
+  core::log(std::to_string(mesh.number_of_vertices()) + " vertices, " + std::to_string(mesh.number_of_faces()) + " triangles");
+  if (info) *info = j;
+  return mesh;
+}
 
 int run_stage(int argc, char** argv, const std::string& stage, const std::string& help,
               const std::function<core::Json(StageContext&)>& body) {

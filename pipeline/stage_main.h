@@ -7,6 +7,7 @@
 
 #include "config/config.h"
 #include "core/stage_file.h"
+#include "surface/surface.h"
 
 namespace volts::pipeline {
 
@@ -26,6 +27,11 @@ struct StageContext {
   std::string input_file(const std::string& previous_stage) const;
   std::string output_file() const;
 };
+
+/// The input surface of a run: --input FILE, else config input.file, else the generated model of
+/// input.generate. Logs what it did (a flipped or welded surface) and returns the report's "input"
+/// figures in `info`. Throws core::ConfigError if there is no input, as read_surface/make_model else.
+surface::Mesh load_input_surface(const StageContext& ctx, core::Json* info);
 
 /// Parses `--config FILE --workdir DIR --input FILE --output FILE -v -q --help`, runs `body`, records
 /// time_s and the body's figures in DIR/report.json, and turns every volts error into

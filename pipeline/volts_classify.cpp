@@ -3,7 +3,6 @@
 #include "classify/classify.h"
 #include "core/errors.h"
 #include "core/log.h"
-#include "models/models.h"
 #include "stage_main.h"
 #include "surface/mesh_json.h"
 
@@ -15,31 +14,11 @@ int main(int argc, char** argv) {
       "(feature / difference) and patches. Input: config 'input.file' or 'input.generate', or --input FILE.\n"
       "Output: DIR/classify.stage.json, DIR/classify.vtp (patch_id, curve_id, curve_kind, corner_id).",
       [](pipeline::StageContext& ctx) {
-        const auto& in = ctx.config.input;
         surface::Mesh mesh;
         core::Json input_info;
         {
           core::LogSection s("read input");
-          if (!ctx.input.empty() || !in.file.empty()) {
-            const std::string file = ctx.input.empty() ? in.file : ctx.input;
-            surface::ReadInfo info;
-            mesh = surface::read_surface(file, &info);
-            if (info.flipped) core::log_warning(file + ": the surface was inside out (inward normals); flipped it");
-            if (info.welded_vertices) core::log(file + ": welded " + std::to_string(info.welded_vertices) + " duplicate vertices");
-            input_info = {{"file", file}, {"format", info.format}, {"flipped", info.flipped}, {"welded_vertices", info.welded_vertices}};
-          } else if (!in.generate.empty()) {
-            models::ModelParams mp;
-            mp.name = in.generate;
-            mp.resolution = in.resolution;
-            mp.bulge = in.bulge;
-            mesh = models::make_model(mp);
-            input_info = {{"generate", in.generate}, {"resolution", in.resolution}};
-          } else {
-            throw core::ConfigError("no input: set input.file or input.generate in the config, or pass --input FILE");
-          }
-          input_info["vertices"] = mesh.number_of_vertices();
-          input_info["faces"] = mesh.number_of_faces();
-          core::log(std::to_string(mesh.number_of_vertices()) + " vertices, " + std::to_string(mesh.number_of_faces()) + " triangles");
+          mesh = pipeline::load_input_surface(ctx, &input_info);
         }
         classify::Classification c;
         {

@@ -6,7 +6,6 @@
 
 #include "core/errors.h"
 #include "core/log.h"
-#include "models/models.h"
 #include "stage_main.h"
 #include "surface/surface.h"
 #include "tet2hex/tet2hex.h"
@@ -22,9 +21,8 @@ int main(int argc, char** argv) {
       "Output: DIR/bezier.vtu (VTK_BEZIER_HEXAHEDRON; cell arrays min/max_scaled_jacobian,\n"
       "boundary_distance, status (1 valid, -1 invalid, 0 undecided), tet). --output FILE replaces DIR/bezier.vtu.",
       [](pipeline::StageContext& ctx) {
-        const auto& in = ctx.config.input;
         const auto& params = ctx.config.tet2hex;
-        const std::string file = ctx.input.empty() ? in.file : ctx.input;
+        const std::string file = ctx.input.empty() ? ctx.config.input.file : ctx.input;
         core::Json input_info;
         tet2hex::Result r;
         if (!file.empty() && std::filesystem::path(file).extension() == ".vtu") {
@@ -40,23 +38,7 @@ int main(int argc, char** argv) {
           surface::Mesh mesh;
           {
             core::LogSection s("read input");
-            if (!file.empty()) {
-              surface::ReadInfo info;
-              mesh = surface::read_surface(file, &info);
-              if (info.flipped) core::log_warning(file + ": the surface was inside out (inward normals); flipped it");
-              input_info = {{"file", file}, {"format", info.format}, {"flipped", info.flipped}};
-            } else if (!in.generate.empty()) {
-              models::ModelParams mp;
-              mp.name = in.generate;
-              mp.resolution = in.resolution;
-              mp.bulge = in.bulge;
-              mesh = models::make_model(mp);
-              input_info = {{"generate", in.generate}, {"resolution", in.resolution}};
-            } else {
-              throw core::ConfigError("no input: set input.file or input.generate in the config, or pass --input FILE");
-            }
-            input_info["vertices"] = mesh.number_of_vertices();
-            input_info["faces"] = mesh.number_of_faces();
+            mesh = pipeline::load_input_surface(ctx, &input_info);
           }
           r = tet2hex::run(mesh, params);
         }
