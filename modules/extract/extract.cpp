@@ -1,10 +1,5 @@
 #include "extract/extract.h"
 
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/Polygon_mesh_processing/measure.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,12 +10,11 @@
 #include "bezier/vtk_bezier.h"
 #include "core/errors.h"
 #include "core/log.h"
+#include "quality/quality.h"
 
 namespace volts::extract {
 
 using surface::Mesh;
-using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<surface::Kernel, Primitive>>;
 
 Result extract(const tmesh::TMesh& t, const Mesh& surface, const Params& params) {
   if (params.gauss_points < 0 || params.gauss_points > 10) throw core::ConfigError("extract.gauss_points must be in [0, 10]");
@@ -39,14 +33,10 @@ Result extract(const tmesh::TMesh& t, const Mesh& surface, const Params& params)
   const int gp = params.gauss_points > 0 ? params.gauss_points : t.degree + 1;
   {
     core::LogSection s("scaled Jacobian at corners and Gauss points");
-    r.min_scaled = 1, r.max_scaled = -1;
-    for (const auto& h : r.hexes) {
-      const auto js = bezier::sample_jacobian(h, gp);
-      r.min_scaled_jacobian.push_back(js.min_scaled);
-      r.max_scaled_jacobian.push_back(js.max_scaled);
-      r.min_scaled = std::min(r.min_scaled, js.min_scaled);
-      r.max_scaled = std::max(r.max_scaled, js.max_scaled);
-    }
+    quality::ScaledJacobian sj = quality::scaled_jacobian(r.hexes, gp);
+    r.min_scaled_jacobian = std::move(sj.min_per_element);
+    r.max_scaled_jacobian = std::move(sj.max_per_element);
+    r.min_scaled = sj.min, r.max_scaled = sj.max;
   }
   {
     // Certified sign of det J (Randrianarivony 2008 §4): the sampled figures above can miss a fold.
@@ -56,51 +46,32 @@ Result extract(const tmesh::TMesh& t, const Mesh& surface, const Params& params)
       const bezier::CertifyResult c = bezier::certify(h, params.certify);
       r.status.push_back(static_cast<int>(c.status));
       r.certified_min_detj.push_back(c.min_detj_lower);
-      r.certified_valid += c.status == bezier::Validity::valid;
-      r.certified_invalid += c.status == bezier::Validity::invalid;
-      r.undecided += c.status == bezier::Validity::undecided;
       if (c.mean_detj != 0) r.certified_min_detj_rel = std::min(r.certified_min_detj_rel, c.min_detj_lower / std::abs(c.mean_detj));
     }
     if (r.hexes.empty()) r.certified_min_detj_rel = 0;
+    const quality::ValidityCounts counts = quality::count_validity(r.status);
+    r.certified_valid = counts.valid, r.certified_invalid = counts.invalid, r.undecided = counts.undecided;
   }
   {
     core::LogSection s("boundary deviation and volume");
-    Tree tree(faces(surface).first, faces(surface).second, surface);
-    tree.accelerate_distance_queries();
-    const CGAL::Bbox_3 bb = tree.bbox();
-    const double diag = std::sqrt(std::pow(bb.xmax() - bb.xmin(), 2) + std::pow(bb.ymax() - bb.ymin(), 2) + std::pow(bb.zmax() - bb.zmin(), 2));
     // Elements are ordered i fastest over the tensor grid of knot spans; boundary faces are those
     // on the first or last span in some direction.
     const int n[3] = {static_cast<int>(bezier::element_spans(t.knots[0], t.degree).size()),
                       static_cast<int>(bezier::element_spans(t.knots[1], t.degree).size()),
                       static_cast<int>(bezier::element_spans(t.knots[2], t.degree).size())};
     if (n[0] * n[1] * n[2] != ne) throw core::NumericalError("extract: element count does not match the knot spans");
-    const int m = params.boundary_samples;
-    double worst = 0;
-    r.boundary_distance.assign(ne, 0.0);
+    std::vector<quality::BoundaryFace> boundary;
     for (int e = 0; e < ne; ++e) {
       const int idx[3] = {e % n[0], (e / n[0]) % n[1], e / (n[0] * n[1])};
       for (int axis = 0; axis < 3; ++axis)
-        for (int side = 0; side < 2; ++side) {
-          if (idx[axis] != (side ? n[axis] - 1 : 0)) continue;
-          for (int a = 0; a < m; ++a)
-            for (int b = 0; b < m; ++b) {
-              Eigen::Vector3d uvw;
-              uvw[axis] = side;
-              uvw[(axis + 1) % 3] = double(a) / (m - 1);
-              uvw[(axis + 2) % 3] = double(b) / (m - 1);
-              const Eigen::Vector3d x = bezier::evaluate(r.hexes[e], uvw);
-              const double d = std::sqrt(tree.squared_distance(surface::Point(x[0], x[1], x[2])));
-              r.boundary_distance[e] = std::max(r.boundary_distance[e], d);
-            }
-          worst = std::max(worst, r.boundary_distance[e]);
-        }
+        for (int side = 0; side < 2; ++side)
+          if (idx[axis] == (side ? n[axis] - 1 : 0)) boundary.push_back({e, axis, side});
     }
-    r.hausdorff_rel = worst / diag;
-    const int vg = std::max({t.degree, 1}) + 2;
-    for (const auto& h : r.hexes) r.spline_volume += bezier::volume(h, vg);
-    r.surface_volume = CGAL::Polygon_mesh_processing::volume(surface);
-    r.volume_rel_error = std::abs(r.spline_volume - r.surface_volume) / std::abs(r.surface_volume);
+    quality::BoundaryDeviation dev = quality::boundary_deviation(r.hexes, boundary, surface, params.boundary_samples);
+    r.boundary_distance = std::move(dev.per_element);
+    r.hausdorff_rel = dev.rel;
+    const quality::Volume v = quality::volume(r.hexes, surface, std::max({t.degree, 1}) + 2);
+    r.spline_volume = v.elements, r.surface_volume = v.surface, r.volume_rel_error = v.rel_error;
   }
   return r;
 }

@@ -4,7 +4,6 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Polygon_mesh_processing/detect_features.h>
-#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 
 #include <algorithm>
@@ -17,6 +16,7 @@
 #include "bezier/vtk_bezier.h"
 #include "core/errors.h"
 #include "core/log.h"
+#include "quality/quality.h"
 #include "tet2hex/convert.h"
 
 namespace volts::tet2hex {
@@ -306,50 +306,28 @@ void convert_and_measure(Result& r, const Mesh& surface, const std::vector<std::
     }
     progress.finish();
   }
-  r.certified_valid = r.certified_invalid = r.undecided = 0;
-  for (int v : r.validity)
-    (v == static_cast<int>(bezier::Validity::valid) ? r.certified_valid : v == static_cast<int>(bezier::Validity::invalid) ? r.certified_invalid : r.undecided)++;
+  const quality::ValidityCounts counts = quality::count_validity(r.validity);
+  r.certified_valid = counts.valid, r.certified_invalid = counts.invalid, r.undecided = counts.undecided;
   const int gp = params.gauss_points > 0 ? params.gauss_points : r.degree + 1;
   {
     core::LogSection s("scaled Jacobian at corners and Gauss points");
-    r.min_scaled = 1, r.max_scaled = -1;
-    r.min_scaled_jacobian.clear(), r.max_scaled_jacobian.clear();
-    for (const auto& h : r.hexes) {
-      const auto js = bezier::sample_jacobian(h, gp);
-      r.min_scaled_jacobian.push_back(js.min_scaled);
-      r.max_scaled_jacobian.push_back(js.max_scaled);
-      r.min_scaled = std::min(r.min_scaled, js.min_scaled);
-      r.max_scaled = std::max(r.max_scaled, js.max_scaled);
-    }
+    quality::ScaledJacobian sj = quality::scaled_jacobian(r.hexes, gp);
+    r.min_scaled_jacobian = std::move(sj.min_per_element);
+    r.max_scaled_jacobian = std::move(sj.max_per_element);
+    r.min_scaled = sj.min, r.max_scaled = sj.max;
   }
   core::LogSection s("boundary deviation and volume");
-  Tree tree(faces(surface).first, faces(surface).second, surface);
-  tree.accelerate_distance_queries();
-  const double diag = surface::bbox_diagonal(surface);
-  const int m = params.boundary_samples;
-  r.boundary_distance.assign(r.hexes.size(), 0.0);
-  double worst = 0;
+  // Tet face opposite vertex bf[1] lies, in each of the three hexes of the other corners, on the
+  // hex face "axis = 0" of the axis that runs towards bf[1].
+  std::vector<quality::BoundaryFace> boundary;
   for (const auto& bf : bfaces)
-    for (int c = 0; c < 4; ++c) {
-      if (c == bf[1]) continue;
-      const int e = 4 * bf[0] + c, axis = axis_towards(c, bf[1]);
-      for (int a = 0; a < m; ++a)
-        for (int b = 0; b < m; ++b) {
-          Eigen::Vector3d uvw;
-          uvw[axis] = 0;
-          uvw[(axis + 1) % 3] = double(a) / (m - 1);
-          uvw[(axis + 2) % 3] = double(b) / (m - 1);
-          const Eigen::Vector3d x = bezier::evaluate(r.hexes[e], uvw);
-          const double d = std::sqrt(tree.squared_distance(surface::Point(x[0], x[1], x[2])));
-          r.boundary_distance[e] = std::max(r.boundary_distance[e], d);
-        }
-      worst = std::max(worst, r.boundary_distance[e]);
-    }
-  r.hausdorff_rel = worst / diag;
-  r.spline_volume = 0;
-  for (const auto& h : r.hexes) r.spline_volume += bezier::volume(h, r.degree + 2);
-  r.surface_volume = PMP::volume(surface);
-  r.volume_rel_error = std::abs(r.spline_volume - r.surface_volume) / std::abs(r.surface_volume);
+    for (int c = 0; c < 4; ++c)
+      if (c != bf[1]) boundary.push_back({4 * bf[0] + c, axis_towards(c, bf[1]), 0});
+  quality::BoundaryDeviation dev = quality::boundary_deviation(r.hexes, boundary, surface, params.boundary_samples);
+  r.boundary_distance = std::move(dev.per_element);
+  r.hausdorff_rel = dev.rel;
+  const quality::Volume v = quality::volume(r.hexes, surface, r.degree + 2);
+  r.spline_volume = v.elements, r.surface_volume = v.surface, r.volume_rel_error = v.rel_error;
 }
 
 Result run(const Mesh& input, const Params& params) {

@@ -1,0 +1,60 @@
+// volts::quality — quality figures of Bézier elements shared by every route (Liu et al. 2013 §6
+// measures): sampled scaled Jacobian, certification counts, boundary deviation from the input
+// surface and volume. extract (stage 5) and tet2hex (the tet route) report them with the same keys.
+#pragma once
+
+#include <vector>
+
+#include "bezier/bezier_hex.h"
+#include "surface/surface.h"
+
+namespace volts::quality {
+
+struct ScaledJacobian {
+  std::vector<double> min_per_element;  ///< per element, sampled
+  std::vector<double> max_per_element;  ///< per element, sampled
+  double min = 1, max = -1;             ///< over all elements (1 and -1 if there are none)
+};
+
+/// Scaled Jacobian of every hex sampled at its corners and gauss_points^3 Gauss points
+/// (bezier::sample_jacobian). A sample, not a certificate.
+ScaledJacobian scaled_jacobian(const std::vector<bezier::BezierHex>& hexes, int gauss_points);
+
+struct ValidityCounts {
+  int valid = 0, invalid = 0, undecided = 0;
+};
+
+/// Counts of certification results given per element as bezier::Validity values (1, -1, 0).
+ValidityCounts count_validity(const std::vector<int>& status);
+
+/// Face of element `element` on the boundary: the face where parameter `axis` (0..2) is `side` (0 or 1).
+struct BoundaryFace {
+  int element = 0;
+  int axis = 0;
+  int side = 0;
+};
+
+struct BoundaryDeviation {
+  std::vector<double> per_element;  ///< max sampled distance of the element's boundary faces to the surface (0 inside)
+  double max = 0;                   ///< over all boundary faces
+  double diagonal = 0;              ///< bounding-box diagonal of the surface
+  double rel = 0;                   ///< max / diagonal (sampled Hausdorff distance boundary -> surface)
+};
+
+/// Samples each boundary face on a samples x samples grid of its parameter square and measures
+/// the distance of the samples to `surface` (CGAL AABB tree). Throws core::InvalidInputError for
+/// samples < 2 or a face naming no element, axis or side.
+BoundaryDeviation boundary_deviation(const std::vector<bezier::BezierHex>& hexes, const std::vector<BoundaryFace>& faces,
+                                     const surface::Mesh& surface, int samples);
+
+struct Volume {
+  double elements = 0;   ///< ∫ det J over all elements
+  double surface = 0;    ///< volume enclosed by the surface
+  double rel_error = 0;  ///< |elements - surface| / |surface|
+};
+
+/// Volume of the elements (bezier::volume with gauss_points per direction) against the volume
+/// enclosed by the closed `surface`.
+Volume volume(const std::vector<bezier::BezierHex>& hexes, const surface::Mesh& surface, int gauss_points);
+
+}  // namespace volts::quality

@@ -1,0 +1,116 @@
+// volts::quality on elements whose figures are known exactly: axis-aligned boxes (scaled Jacobian
+// 1, no deviation from the box surface), a box with one face pushed out by d, a mirrored box.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bezier/certify.h"
+#include "core/errors.h"
+#include "models/models.h"
+#include "quality/quality.h"
+
+namespace volts::quality {
+namespace {
+
+// The generated box [-1,1] x [-0.75,0.75] x [-0.5,0.5].
+surface::Mesh box_surface() {
+  models::ModelParams p;
+  p.name = "box";
+  p.resolution = 8;
+  return models::make_model(p);
+}
+
+// Degree-2 hex filling [lo, hi] (axis-aligned), control points on the uniform grid.
+bezier::BezierHex box_hex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  bezier::BezierHex h;
+  h.degree = {2, 2, 2};
+  for (int n = 0; n < h.num_points(); ++n) {
+    const auto [i, j, k] = h.ijk(n);
+    const Eigen::Vector3d t(i / 2.0, j / 2.0, k / 2.0);
+    h.points.push_back(lo + (hi - lo).cwiseProduct(t));
+  }
+  return h;
+}
+
+const Eigen::Vector3d kLo(-1, -0.75, -0.5), kHi(1, 0.75, 0.5);
+const double kDiagonal = std::sqrt(4 + 2.25 + 1);
+
+std::vector<BoundaryFace> all_faces(int element) {
+  std::vector<BoundaryFace> f;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) f.push_back({element, axis, side});
+  return f;
+}
+
+TEST(Quality, BoxHexHasScaledJacobianOneEverywhere) {
+  const auto sj = scaled_jacobian({box_hex(kLo, kHi), box_hex({0, 0, 0}, {3, 1, 0.2})}, 4);
+  ASSERT_EQ(sj.min_per_element.size(), 2u);
+  ASSERT_EQ(sj.max_per_element.size(), 2u);
+  for (int e = 0; e < 2; ++e) {
+    EXPECT_NEAR(sj.min_per_element[e], 1.0, 1e-12);
+    EXPECT_NEAR(sj.max_per_element[e], 1.0, 1e-12);
+  }
+  EXPECT_NEAR(sj.min, 1.0, 1e-12);
+  EXPECT_NEAR(sj.max, 1.0, 1e-12);
+}
+
+TEST(Quality, BoxHexDoesNotDeviateFromTheSurfaceThroughItsBoundary) {
+  const surface::Mesh s = box_surface();
+  const auto dev = boundary_deviation({box_hex(kLo, kHi)}, all_faces(0), s, 8);
+  ASSERT_EQ(dev.per_element.size(), 1u);
+  EXPECT_NEAR(dev.per_element[0], 0.0, 1e-12);
+  EXPECT_NEAR(dev.max, 0.0, 1e-12);
+  EXPECT_NEAR(dev.rel, 0.0, 1e-12);
+  EXPECT_NEAR(dev.diagonal, kDiagonal, 1e-12);
+  const auto v = volume({box_hex(kLo, kHi)}, s, 4);
+  EXPECT_NEAR(v.elements, 3.0, 1e-12);
+  EXPECT_NEAR(v.surface, 3.0, 1e-12);
+  EXPECT_NEAR(v.rel_error, 0.0, 1e-12);
+}
+
+TEST(Quality, FaceOffsetByDFromAPlaneGivesDOverTheDiagonal) {
+  const surface::Mesh s = box_surface();
+  const double d = 0.125;
+  // Element 1 reaches d above the box's top plane z = 0.5; only that face is on the boundary.
+  const std::vector<bezier::BezierHex> hexes = {box_hex(kLo, kHi), box_hex(kLo, {1, 0.75, 0.5 + d})};
+  const auto dev = boundary_deviation(hexes, {{1, 2, 1}}, s, 5);
+  ASSERT_EQ(dev.per_element.size(), 2u);
+  EXPECT_EQ(dev.per_element[0], 0.0);  // not on the boundary: not measured
+  EXPECT_NEAR(dev.per_element[1], d, 1e-12);
+  EXPECT_NEAR(dev.max, d, 1e-12);
+  EXPECT_NEAR(dev.rel, d / kDiagonal, 1e-12);
+  // The same element's bottom face lies on the surface.
+  EXPECT_NEAR(boundary_deviation(hexes, {{1, 2, 0}}, s, 5).max, 0.0, 1e-12);
+  const auto v = volume({hexes[1]}, s, 4);
+  EXPECT_NEAR(v.elements, 3.0 + 3.0 * d, 1e-12);
+  EXPECT_NEAR(v.rel_error, d, 1e-12);
+}
+
+TEST(Quality, BoundaryDeviationRefusesBadInput) {
+  const surface::Mesh s = box_surface();
+  EXPECT_THROW(boundary_deviation({box_hex(kLo, kHi)}, all_faces(0), s, 1), core::InvalidInputError);
+  EXPECT_THROW(boundary_deviation({box_hex(kLo, kHi)}, {{1, 0, 0}}, s, 4), core::InvalidInputError);
+  EXPECT_THROW(boundary_deviation({box_hex(kLo, kHi)}, {{0, 3, 0}}, s, 4), core::InvalidInputError);
+}
+
+TEST(Quality, ValidityCountsAddUp) {
+  // A box is certified valid; its mirror image has det J < 0 everywhere.
+  bezier::BezierHex mirrored = box_hex(kLo, kHi);
+  for (auto& p : mirrored.points) p.x() = -p.x();
+  std::vector<int> status;
+  for (const auto& h : {box_hex(kLo, kHi), mirrored, box_hex({0, 0, 0}, {1, 2, 3})})
+    status.push_back(static_cast<int>(bezier::certify(h, {}).status));
+  status.push_back(static_cast<int>(bezier::Validity::undecided));
+  const ValidityCounts c = count_validity(status);
+  EXPECT_EQ(c.valid, 2);
+  EXPECT_EQ(c.invalid, 1);
+  EXPECT_EQ(c.undecided, 1);
+  EXPECT_EQ(c.valid + c.invalid + c.undecided, static_cast<int>(status.size()));
+  const ValidityCounts none = count_validity({});
+  EXPECT_EQ(none.valid + none.invalid + none.undecided, 0);
+  const auto sj = scaled_jacobian({mirrored}, 3);
+  EXPECT_NEAR(sj.max, -1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace volts::quality
