@@ -3,21 +3,12 @@
 #define TETLIBRARY
 #include <tetgen.h>
 
-#include <vtkCellData.h>
-#include <vtkCellTypes.h>
-#include <vtkDataArray.h>
-#include <vtkHigherOrderTetra.h>
-#include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridReader.h>
-
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <map>
 #include <sstream>
 
+#include "bezier/vtk_bezier.h"
 #include "core/errors.h"
 #include "core/log.h"
 
@@ -139,63 +130,23 @@ std::vector<bezier::BezierTet> linear_tets(const TetMesh& mesh) {
 }
 
 std::vector<bezier::BezierTet> read_tet_vtu(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw core::InvalidInputError(path + ": no such file");
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  if (!reader->CanReadFile(path.c_str())) throw core::InvalidInputError(path + ": not a VTK XML unstructured grid (.vtu)");
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  if (reader->GetErrorCode() != 0) throw core::InvalidInputError(path + ": cannot be read as .vtu");
-  vtkUnstructuredGrid* g = reader->GetOutput();
-  if (!g || g->GetNumberOfCells() == 0) throw core::InvalidInputError(path + ": no cells");
-  vtkDataArray* degrees = g->GetCellData()->GetArray("HigherOrderDegrees");
-  vtkDataArray* weights = g->GetPointData()->GetArray("RationalWeights");
+  // The reading is bezier::read_bezier_vtu's; this adds what the tet route needs: only linear and
+  // Bézier tets, one degree, finite points, positive orientation.
+  bezier::VtuElements in = bezier::read_bezier_vtu(path);
+  if (in.vtk_type.empty()) throw core::InvalidInputError(path + ": no cells");
   std::vector<bezier::BezierTet> tets;
+  tets.reserve(in.tets.size());
   int degree = -1;
-  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c) {
-    const int type = g->GetCellType(c);
-    vtkIdType npts = 0;
-    const vtkIdType* ids = nullptr;
-    g->GetCellPoints(c, npts, ids);
-    bezier::BezierTet t;
-    if (type == 10) {  // VTK_TETRA
-      t.degree = 1;
-      if (npts != 4) throw core::InvalidInputError(path + ": cell " + std::to_string(c) + ": a tetra with " + std::to_string(npts) + " points");
-    } else if (type == 78) {  // VTK_BEZIER_TETRAHEDRON
-      int n = -1;
-      if (degrees && degrees->GetNumberOfComponents() >= 1) n = static_cast<int>(std::lround(degrees->GetComponent(c, 0)));
-      if (n < 1)
-        for (int m = 1; m <= 20; ++m)
-          if (bezier::simplex_size(3, m) == npts) n = m;
-      if (n < 1 || bezier::simplex_size(3, n) != npts)
-        throw core::InvalidInputError(path + ": cell " + std::to_string(c) + ": " + std::to_string(npts) + " points is no Bézier tetrahedron");
-      t.degree = n;
-    } else {
+  for (int c = 0; c < static_cast<int>(in.vtk_type.size()); ++c) {
+    const int type = in.vtk_type[c];
+    if (type != 10 && type != 78)  // VTK_TETRA, VTK_BEZIER_TETRAHEDRON
       throw core::InvalidInputError(path + ": cell " + std::to_string(c) + " has VTK type " + std::to_string(type) +
                                     "; only tetrahedra (10) and Bézier tetrahedra (78) are read");
-    }
+    bezier::BezierTet t = std::move(in.tets[in.element[c]]);
     if (degree >= 0 && t.degree != degree) throw core::InvalidInputError(path + ": cells of different degrees (" + std::to_string(degree) + " and " + std::to_string(t.degree) + ")");
     degree = t.degree;
-    t.points.resize(npts);
-    if (weights && type == 78) t.weights.resize(npts);
-    for (vtkIdType q = 0; q < npts; ++q) {
-      // VTK's barycentric index of point q: b[3] is the exponent of corner 0, b[0..2] those of
-      // corners 1..3 (vtkHigherOrderTetra: corner 0 has b = (0,0,0,n)).
-      vtkIdType b[4] = {0, 0, 0, 0};
-      if (type == 78) vtkHigherOrderTetra::BarycentricIndex(q, b, t.degree);
-      else if (q > 0) b[q - 1] = 1;
-      const int idx = bezier::simplex_index(3, t.degree, static_cast<int>(b[0]), static_cast<int>(b[1]), static_cast<int>(b[2]));
-      double x[3];
-      g->GetPoint(ids[q], x);
-      if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
-        throw core::InvalidInputError(path + ": point " + std::to_string(ids[q]) + " is not finite");
-      t.points[idx] = Eigen::Vector3d(x[0], x[1], x[2]);
-      if (!t.weights.empty()) t.weights[idx] = weights->GetComponent(ids[q], 0);
-    }
-    try {
-      bezier::check(t);
-    } catch (const core::InvalidInputError& e) {
-      throw core::InvalidInputError(path + ": cell " + std::to_string(c) + ": " + e.what());
-    }
+    for (const auto& x : t.points)
+      if (!x.allFinite()) throw core::InvalidInputError(path + ": cell " + std::to_string(c) + ": a point is not finite");
     // Negative orientation (corner frame): swap the roles of v and w.
     const int n = t.degree;
     if (signed_volume6(t.points[0], t.points[bezier::simplex_index(3, n, n, 0, 0)], t.points[bezier::simplex_index(3, n, 0, n, 0)],

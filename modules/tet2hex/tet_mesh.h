@@ -38,8 +38,8 @@ TetMesh tetrahedralize(const surface::Mesh& surface, const TetgenParams& params)
 std::vector<std::array<int, 2>> boundary_faces(const TetMesh& mesh);
 
 /// Reads a .vtu (VTK XML unstructured grid) of VTK_TETRA (10) or VTK_BEZIER_TETRAHEDRON (78;
-/// degree from HigherOrderDegrees or the point count, RationalWeights honoured) cells; other
-/// cells are refused. Tets are returned as Bézier tets (linear ones of degree 1), reoriented to
+/// degree from the point count, RationalWeights honoured) cells with bezier::read_bezier_vtu;
+/// other cells are refused, naming the file and the cell. Tets are returned as Bézier tets (linear ones of degree 1), reoriented to
 /// positive volume. Throws core::InvalidInputError naming the file for a missing or unreadable
 /// file, no cells, another cell type, or mixed degrees.
 std::vector<bezier::BezierTet> read_tet_vtu(const std::string& path);
