@@ -16,11 +16,14 @@ function(volts_warnings target)
   endif()
 endfunction()
 
-# volts_test(NAME SOURCES ... DEPS ...): one GoogleTest executable registered with ctest.
+# volts_test(NAME SOURCES ... DEPS ...): one GoogleTest executable registered with ctest; tests/ is on
+# its include path for the shared helpers in tests/common.
 function(volts_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
+  # Shared helpers: #include "common/test_util.h" (tests/common, header-only).
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
   target_compile_definitions(${name} PRIVATE
     VOLTS_SHARED_MODELS="${PROJECT_SOURCE_DIR}/../shared/models"
     VOLTS_BINARY_DIR="${PROJECT_BINARY_DIR}")

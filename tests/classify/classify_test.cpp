@@ -9,18 +9,12 @@
 #include <set>
 
 #include "classify/classify.h"
-#include "models/models.h"
+#include "common/test_util.h"
 
 using namespace volts;
 
 namespace {
 
-surface::Mesh model(const std::string& name, int resolution) {
-  models::ModelParams p;
-  p.name = name;
-  p.resolution = resolution;
-  return models::make_model(p);
-}
 
 // Invariants: curves partition the sharp edges; curve ends are corners and interior curve
 // vertices are not; faces across a non-sharp edge share a patch; patches beside a curve differ.
@@ -70,7 +64,7 @@ TEST(Classify, BoxLikeModelsHaveTheCubeStructureAtEveryResolution) {
   for (const std::string name : {"box", "bulged-box"})
     for (int res : {4, 8, 16, 24}) {
       SCOPED_TRACE(name + " resolution " + std::to_string(res));
-      const auto mesh = model(name, res);
+      const auto mesh = test::generated_model(name, res);
       const auto c = classify::classify(mesh, {});
       EXPECT_EQ(c.corners.size(), 8u);
       EXPECT_EQ(c.curves.size(), 12u);
@@ -90,7 +84,7 @@ TEST(Classify, BoxLikeModelsHaveTheCubeStructureAtEveryResolution) {
 }
 
 TEST(Classify, ResultDoesNotDependOnOrientationInSpace) {
-  auto mesh = model("bulged-box", 12);
+  auto mesh = test::generated_model("bulged-box", 12);
   const auto before = classify::classify(mesh, {});
   // A rotation about an oblique axis.
   const double a = 0.7, s = std::sin(a), co = std::cos(a);
@@ -105,7 +99,7 @@ TEST(Classify, ResultDoesNotDependOnOrientationInSpace) {
 TEST(Classify, CubeWithHoleHasTwoDifferenceCurves) {
   for (int res : {16, 32}) {
     SCOPED_TRACE(res);
-    const auto mesh = model("cube-with-hole", res);
+    const auto mesh = test::generated_model("cube-with-hole", res);
     const auto c = classify::classify(mesh, {});
     EXPECT_EQ(c.corners.size(), 8u);
     EXPECT_EQ(c.curves.size(), 14u);
@@ -119,7 +113,7 @@ TEST(Classify, CubeWithHoleHasTwoDifferenceCurves) {
 }
 
 TEST(Classify, SmoothTorusHasNoCurves) {
-  const auto mesh = model("torus", 24);
+  const auto mesh = test::generated_model("torus", 24);
   const auto c = classify::classify(mesh, {});
   EXPECT_EQ(c.corners.size(), 0u);
   EXPECT_EQ(c.curves.size(), 0u);
@@ -159,7 +153,7 @@ TEST(Classify, HigherThresholdNeverFindsMoreSharpEdges) {
 }
 
 TEST(Classify, StageFilePayloadRoundTrips) {
-  const auto mesh = model("cube-with-hole", 16);
+  const auto mesh = test::generated_model("cube-with-hole", 16);
   const auto c = classify::classify(mesh, {});
   const auto d = classify::from_json(classify::to_json(c), "mem");
   EXPECT_EQ(d.corners, c.corners);

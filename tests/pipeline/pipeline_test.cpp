@@ -9,13 +9,10 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sys/wait.h>
 
 #include "bezier/vtk_bezier.h"
+#include "common/test_util.h"
 #include "core/atomic_file.h"
 #include "core/stage_file.h"
 
@@ -23,33 +20,6 @@ namespace fs = std::filesystem;
 using namespace volts;
 
 namespace {
-
-struct Outcome {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
-
-Outcome run(const std::string& cmd) {
-  Outcome r;
-  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), buf.size(), p)) r.output += buf.data();
-  const int status = ::pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string bin(const std::string& tool) { return std::string(VOLTS_BIN_DIR) + "/" + tool; }
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("volts_pipeline_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 std::size_t files_in(const fs::path& d) {
   return static_cast<std::size_t>(std::distance(fs::directory_iterator(d), fs::directory_iterator()));
@@ -61,15 +31,15 @@ std::size_t files_in(const fs::path& d) {
 class Skeleton : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir = fresh_dir("skeleton");
-    write(dir / "run.yaml", "input: {generate: bulged-box, resolution: 16}\ntmesh: {level: 3}\n");
-    result = run(bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string());
+    dir = test::fresh_dir("pipeline", "skeleton");
+    test::write_text(dir / "run.yaml", "input: {generate: bulged-box, resolution: 16}\ntmesh: {level: 3}\n");
+    result = test::run(test::bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string());
   }
   static fs::path dir;
-  static Outcome result;
+  static test::Outcome result;
 };
 fs::path Skeleton::dir;
-Outcome Skeleton::result;
+test::Outcome Skeleton::result;
 
 TEST_F(Skeleton, RunSucceedsAndReportsTheFigures) {
   ASSERT_EQ(result.code, 0) << result.output;
@@ -125,7 +95,7 @@ TEST_F(Skeleton, ResumeFromExtractReusesEarlierFiles) {
   for (const char* f : {"classify.stage.json", "split.stage.json", "polycube.stage.json", "tmesh.stage.json"})
     before[f] = fs::last_write_time(w / f);
   const auto vtu_before = fs::last_write_time(w / "bezier.vtu");
-  const Outcome again = run(bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + w.string() + " --from extract");
+  const test::Outcome again = test::run(test::bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + w.string() + " --from extract");
   ASSERT_EQ(again.code, 0) << again.output;
   for (const auto& [f, t] : before) EXPECT_EQ(fs::last_write_time(w / f), t) << f << " was rewritten";
   EXPECT_GT(fs::last_write_time(w / "bezier.vtu"), vtu_before);
@@ -137,7 +107,7 @@ TEST_F(Skeleton, ResumeFromExtractReusesEarlierFiles) {
 TEST_F(Skeleton, SameConfigGivesByteIdenticalFiles) {
   ASSERT_EQ(result.code, 0) << result.output;
   const fs::path again = dir / "again";
-  const Outcome r = run(bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + again.string());
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + again.string());
   ASSERT_EQ(r.code, 0) << r.output;
   for (const char* f : {"classify.stage.json", "classify.vtp", "split.stage.json", "polycube.stage.json", "polycube.vtp",
                         "tmesh.stage.json", "tmesh.vtu", "bezier.vtu"})
@@ -147,7 +117,7 @@ TEST_F(Skeleton, SameConfigGivesByteIdenticalFiles) {
 TEST_F(Skeleton, VoltsCheckCertifiesEveryElementAndNamesAFoldedOne) {
   ASSERT_EQ(result.code, 0) << result.output;
   const fs::path vtu = dir / "work" / "bezier.vtu";
-  const Outcome ok = run(bin("volts-check") + " " + vtu.string());
+  const test::Outcome ok = test::run(test::bin("volts-check") + " " + vtu.string());
   EXPECT_EQ(ok.code, 0) << ok.output;
   EXPECT_NE(ok.output.find("512 certified valid, 0 invalid, 0 undecided"), std::string::npos) << ok.output;
   // Fold element 137: push an interior control point far back along u, past its neighbours.
@@ -158,7 +128,7 @@ TEST_F(Skeleton, VoltsCheckCertifiesEveryElementAndNamesAFoldedOne) {
   h.points[h.index(1, 1, 1)] -= 3.0 * du;
   const fs::path folded = dir / "folded.vtu";
   bezier::write_bezier_vtu(folded.string(), e.hexes);
-  const Outcome bad = run(bin("volts-check") + " " + folded.string());
+  const test::Outcome bad = test::run(test::bin("volts-check") + " " + folded.string());
   EXPECT_EQ(bad.code, 8) << bad.output;
   EXPECT_NE(bad.output.find("cell 137"), std::string::npos) << bad.output;
   EXPECT_NE(bad.output.find("invalid"), std::string::npos) << bad.output;
@@ -166,17 +136,17 @@ TEST_F(Skeleton, VoltsCheckCertifiesEveryElementAndNamesAFoldedOne) {
 }
 
 TEST(Pipeline, ResumeWithoutEarlierFilesNamesTheMissingFile) {
-  const fs::path d = fresh_dir("resume_missing");
-  write(d / "run.yaml", "input: {generate: box}\n");
-  const Outcome r = run(bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string() + " --from tmesh");
+  const fs::path d = test::fresh_dir("pipeline", "resume_missing");
+  test::write_text(d / "run.yaml", "input: {generate: box}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string() + " --from tmesh");
   EXPECT_EQ(r.code, 4) << r.output;
   EXPECT_NE(r.output.find("polycube.stage.json: missing"), std::string::npos) << r.output;
 }
 
 TEST(Pipeline, UnknownConfigKeyStopsBeforeAnyStage) {
-  const fs::path d = fresh_dir("badkey");
-  write(d / "run.yaml", "input: {generate: box}\ntmesh: {levle: 3}\n");
-  const Outcome r = run(bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
+  const fs::path d = test::fresh_dir("pipeline", "badkey");
+  test::write_text(d / "run.yaml", "input: {generate: box}\ntmesh: {levle: 3}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
   EXPECT_EQ(r.code, 3) << r.output;
   EXPECT_NE(r.output.find("unknown key 'tmesh.levle'"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "w" / "classify.stage.json"));
@@ -185,7 +155,7 @@ TEST(Pipeline, UnknownConfigKeyStopsBeforeAnyStage) {
 // Broken surface inputs through volts-classify: message names the file and the problem, exit code
 // 4 (invalid input), and the work directory stays empty.
 TEST(Pipeline, BrokenSurfacesAreRefusedAndNothingIsWritten) {
-  const fs::path d = fresh_dir("broken");
+  const fs::path d = test::fresh_dir("pipeline", "broken");
   struct Case { std::string name, content, expect; };
   const std::vector<Case> cases = {
       {"open.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n", "boundary edge"},
@@ -197,9 +167,9 @@ TEST(Pipeline, BrokenSurfacesAreRefusedAndNothingIsWritten) {
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
-    write(d / c.name, c.content);
+    test::write_text(d / c.name, c.content);
     const fs::path w = d / ("w_" + c.name);
-    const Outcome r = run(bin("volts-classify") + " --input " + (d / c.name).string() + " --workdir " + w.string());
+    const test::Outcome r = test::run(test::bin("volts-classify") + " --input " + (d / c.name).string() + " --workdir " + w.string());
     EXPECT_EQ(r.code, 4) << r.output;
     EXPECT_NE(r.output.find((d / c.name).string()), std::string::npos) << r.output;
     EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
@@ -208,18 +178,18 @@ TEST(Pipeline, BrokenSurfacesAreRefusedAndNothingIsWritten) {
 }
 
 TEST(Pipeline, WrongStageFileVersionIsRefused) {
-  const fs::path d = fresh_dir("version");
+  const fs::path d = test::fresh_dir("pipeline", "version");
   core::write_stage_file((d / "classify.stage.json").string(), "volts-classify", 99, core::Json::object());
-  const Outcome r = run(bin("volts-split") + " --workdir " + d.string());
+  const test::Outcome r = test::run(test::bin("volts-split") + " --workdir " + d.string());
   EXPECT_EQ(r.code, 4) << r.output;
   EXPECT_NE(r.output.find("version 99 is newer"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "split.stage.json"));
 }
 
 TEST(Pipeline, SplitRefusesANonBoxSurfaceWithATopologyError) {
-  const fs::path d = fresh_dir("torus_split");
-  write(d / "run.yaml", "input: {generate: torus}\n");
-  const Outcome r = run(bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
+  const fs::path d = test::fresh_dir("pipeline", "torus_split");
+  test::write_text(d / "run.yaml", "input: {generate: torus}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
   EXPECT_EQ(r.code, 5) << r.output;
   EXPECT_NE(r.output.find("not box-like (genus 1"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("--from split"), std::string::npos) << r.output;
@@ -228,7 +198,7 @@ TEST(Pipeline, SplitRefusesANonBoxSurfaceWithATopologyError) {
 
 TEST(Pipeline, EveryExecutableHasHelp) {
   for (const char* t : {"volts", "volts-check", "volts-classify", "volts-split", "volts-polycube", "volts-tmesh", "volts-extract", "volts-make-model"}) {
-    const Outcome r = run(bin(t) + " --help");
+    const test::Outcome r = test::run(test::bin(t) + " --help");
     EXPECT_EQ(r.code, 0) << t;
     EXPECT_NE(r.output.find("usage"), std::string::npos) << t << ": " << r.output;
   }

@@ -1,11 +1,12 @@
-// Shared helpers of the volts::tet2hex tests: seeded random Bézier tets.
+// Shared helpers of the volts::tet2hex tests: seeded random Bézier tets (in volts::test, beside
+// the helpers of common/test_util.h).
 #pragma once
 
 #include <random>
 
 #include "bezier/bezier_tet.h"
 
-namespace volts::tet2hex::test {
+namespace volts::test {
 
 /// A random Bézier tet of degree n: a random positive linear tet (edge lengths ~1, not too flat)
 /// elevated to n, every control point moved by up to `wobble` (absolute), optionally with random
@@ -42,4 +43,4 @@ inline Eigen::Vector3d random_uvw(std::mt19937& rng) {
   return {s[0], s[1] - s[0], s[2] - s[1]};
 }
 
-}  // namespace volts::tet2hex::test
+}  // namespace volts::test

@@ -15,8 +15,8 @@
 #include <fstream>
 #include <set>
 
+#include "common/test_util.h"
 #include "core/errors.h"
-#include "models/models.h"
 #include "tet2hex/tet_mesh.h"
 #include "test_util.h"
 
@@ -34,17 +34,11 @@ double volume(const TetMesh& m) {
   }
   return v;
 }
-surface::Mesh model(const std::string& name, int resolution) {
-  models::ModelParams p;
-  p.name = name;
-  p.resolution = resolution;
-  return models::make_model(p);
-}
 }  // namespace
 
 TEST(Tetrahedralize, FillsTheSolidExactlyWithPositiveTets) {
   for (const char* name : {"tetrahedron", "cone", "torus"}) {
-    const surface::Mesh s = model(name, 8);
+    const surface::Mesh s = test::generated_model(name, 8);
     const TetMesh m = tetrahedralize(s, {});
     ASSERT_GT(m.tets.size(), 0u) << name;
     EXPECT_NEAR(volume(m), surface::signed_volume(s), 1e-10 * surface::signed_volume(s)) << name;
@@ -54,7 +48,7 @@ TEST(Tetrahedralize, FillsTheSolidExactlyWithPositiveTets) {
 }
 
 TEST(Tetrahedralize, QualityAndVolumeBoundsRefine) {
-  const surface::Mesh s = model("cone", 8);
+  const surface::Mesh s = test::generated_model("cone", 8);
   TetgenParams coarse;
   coarse.max_radius_edge_ratio = 0;
   TetgenParams fine;
@@ -69,7 +63,7 @@ TEST(Tetrahedralize, QualityAndVolumeBoundsRefine) {
 }
 
 TEST(Tetrahedralize, ParametersOutOfRangeAreConfigErrors) {
-  const surface::Mesh s = model("tetrahedron", 4);
+  const surface::Mesh s = test::generated_model("tetrahedron", 4);
   TetgenParams p;
   p.max_radius_edge_ratio = 0.5;
   EXPECT_THROW(tetrahedralize(s, p), core::ConfigError);

@@ -3,53 +3,18 @@
 // exit code, and no bezier.vtu.
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sys/wait.h>
-#include <unistd.h>
 
+#include "common/test_util.h"
 #include "core/stage_file.h"
 
 namespace fs = std::filesystem;
 using namespace volts;
 
-namespace {
-
-struct Outcome {
-  int code = -1;
-  std::string output;
-};
-
-Outcome run(const std::string& cmd) {
-  Outcome r;
-  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), buf.size(), p)) r.output += buf.data();
-  const int status = ::pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string bin(const std::string& tool) { return std::string(VOLTS_BIN_DIR) + "/" + tool; }
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("volts_tetroute_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
-
-}  // namespace
-
 TEST(TetRoutePipeline, VoltsRunOnATetrahedron) {
-  const fs::path dir = fresh_dir("run");
-  write(dir / "run.yaml", "route: tet\ninput: {generate: tetrahedron, resolution: 4}\ntet2hex: {degree: 2}\n");
-  const Outcome r = run(bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string());
+  const fs::path dir = test::fresh_dir("tetroute", "run");
+  test::write_text(dir / "run.yaml", "route: tet\ninput: {generate: tetrahedron, resolution: 4}\ntet2hex: {degree: 2}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string());
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("tet2hex"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("open in ParaView: "), std::string::npos) << r.output;
@@ -67,28 +32,28 @@ TEST(TetRoutePipeline, VoltsRunOnATetrahedron) {
   EXPECT_GT(s["min_scaled_jacobian"].get<double>(), 0);
   EXPECT_LT(s["volume_rel_error"].get<double>(), 1e-10);
   // --from/--to name the route's stage; a polycube stage is refused for this route.
-  const Outcome again = run(bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string() + " --from tet2hex --to tet2hex");
+  const test::Outcome again = test::run(test::bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string() + " --from tet2hex --to tet2hex");
   EXPECT_EQ(again.code, 0) << again.output;
-  const Outcome wrong = run(bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string() + " --from tmesh");
+  const test::Outcome wrong = test::run(test::bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string() + " --from tmesh");
   EXPECT_EQ(wrong.code, 2) << wrong.output;
   EXPECT_NE(wrong.output.find("tet2hex"), std::string::npos) << wrong.output;
   fs::remove_all(dir);
 }
 
 TEST(TetRoutePipeline, BadInputNamesTheFileAndWritesNothing) {
-  const fs::path dir = fresh_dir("bad");
-  write(dir / "open.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
-  const Outcome r = run(bin("volts-tet2hex") + " --workdir " + (dir / "work").string() + " --input " + (dir / "open.off").string());
+  const fs::path dir = test::fresh_dir("tetroute", "bad");
+  test::write_text(dir / "open.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  const test::Outcome r = test::run(test::bin("volts-tet2hex") + " --workdir " + (dir / "work").string() + " --input " + (dir / "open.off").string());
   EXPECT_EQ(r.code, 4) << r.output;
   EXPECT_NE(r.output.find("open.off"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "work" / "bezier.vtu"));
-  write(dir / "bad.vtu", "<VTKFile>truncated");
-  const Outcome v = run(bin("volts-tet2hex") + " --workdir " + (dir / "work").string() + " --input " + (dir / "bad.vtu").string());
+  test::write_text(dir / "bad.vtu", "<VTKFile>truncated");
+  const test::Outcome v = test::run(test::bin("volts-tet2hex") + " --workdir " + (dir / "work").string() + " --input " + (dir / "bad.vtu").string());
   EXPECT_EQ(v.code, 4) << v.output;
   EXPECT_NE(v.output.find("bad.vtu"), std::string::npos) << v.output;
   EXPECT_FALSE(fs::exists(dir / "work" / "bezier.vtu"));
-  write(dir / "cfg.yaml", "route: tet\ntet2hex: {degree: 9}\n");
-  const Outcome c = run(bin("volts-tet2hex") + " --config " + (dir / "cfg.yaml").string() + " --workdir " + (dir / "work").string());
+  test::write_text(dir / "cfg.yaml", "route: tet\ntet2hex: {degree: 9}\n");
+  const test::Outcome c = test::run(test::bin("volts-tet2hex") + " --config " + (dir / "cfg.yaml").string() + " --workdir " + (dir / "work").string());
   EXPECT_EQ(c.code, 3) << c.output;
   EXPECT_NE(c.output.find("tet2hex.degree"), std::string::npos) << c.output;
   fs::remove_all(dir);
@@ -97,8 +62,8 @@ TEST(TetRoutePipeline, BadInputNamesTheFileAndWritesNothing) {
 // The route's output is itself valid input: bezier.vtu's hexes are not tets, but a .vtu of tets
 // is converted as given (here: the degree-1 tets TetGen would give, written by hand).
 TEST(TetRoutePipeline, VtuOfLinearTets) {
-  const fs::path dir = fresh_dir("vtu");
-  write(dir / "two.vtu",
+  const fs::path dir = test::fresh_dir("tetroute", "vtu");
+  test::write_text(dir / "two.vtu",
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
         "<UnstructuredGrid><Piece NumberOfPoints=\"5\" NumberOfCells=\"2\">\n"
         "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1 1 1 1</DataArray></Points>\n"
@@ -106,8 +71,8 @@ TEST(TetRoutePipeline, VtuOfLinearTets) {
         "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">4 8</DataArray>\n"
         "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10 10</DataArray></Cells>\n"
         "</Piece></UnstructuredGrid></VTKFile>\n");
-  write(dir / "cfg.yaml", "route: tet\ntet2hex: {degree: 2}\n");
-  const Outcome r = run(bin("volts-tet2hex") + " --config " + (dir / "cfg.yaml").string() + " --workdir " + (dir / "work").string() +
+  test::write_text(dir / "cfg.yaml", "route: tet\ntet2hex: {degree: 2}\n");
+  const test::Outcome r = test::run(test::bin("volts-tet2hex") + " --config " + (dir / "cfg.yaml").string() + " --workdir " + (dir / "work").string() +
                         " --input " + (dir / "two.vtu").string());
   ASSERT_EQ(r.code, 0) << r.output;
   const auto s = core::read_report((dir / "work").string())["stages"]["tet2hex"];

@@ -2,8 +2,8 @@
 // surface) → four hexes each, certified; and Bézier tets given directly.
 #include <gtest/gtest.h>
 
+#include "common/test_util.h"
 #include "core/errors.h"
-#include "models/models.h"
 #include "tet2hex/convert.h"
 #include "tet2hex/tet2hex.h"
 #include "test_util.h"
@@ -11,17 +11,8 @@
 using namespace volts;
 using namespace volts::tet2hex;
 
-namespace {
-surface::Mesh model(const std::string& name, int resolution) {
-  models::ModelParams p;
-  p.name = name;
-  p.resolution = resolution;
-  return models::make_model(p);
-}
-}  // namespace
-
 TEST(TetRoute, TetrahedronIsAllValidHexesWithTheExactVolume) {
-  const surface::Mesh s = model("tetrahedron", 4);
+  const surface::Mesh s = test::generated_model("tetrahedron", 4);
   Params p;
   p.degree = 2;
   const Result r = run(s, p);
@@ -37,7 +28,7 @@ TEST(TetRoute, TetrahedronIsAllValidHexesWithTheExactVolume) {
 // A coarse remesh of a sphere, curved back onto the fine input: closer to the surface than the
 // flat tets, every element still certified valid, and every boundary face either curved or reverted.
 TEST(TetRoute, CurvedBoundaryIsCloserToTheSurfaceAndCertified) {
-  const surface::Mesh s = model("sphere", 24);
+  const surface::Mesh s = test::generated_model("sphere", 24);
   Params p;
   p.degree = 3;
   p.remesh_edge_rel = 0.1;
@@ -58,7 +49,7 @@ TEST(TetRoute, DegreeOneIsNotCurved) {
   Params p;
   p.degree = 1;
   p.remesh_edge_rel = 0.3;
-  const Result r = run(model("sphere", 16), p);
+  const Result r = run(test::generated_model("sphere", 16), p);
   EXPECT_EQ(r.boundary_faces_curved, 0);
   EXPECT_EQ(r.certified_valid, static_cast<int>(r.hexes.size()));
 }
@@ -79,7 +70,7 @@ TEST(TetRoute, GivenTetsAreConvertedAndElevated) {
 }
 
 TEST(TetRoute, BadParametersAndInputAreRefused) {
-  const surface::Mesh s = model("tetrahedron", 4);
+  const surface::Mesh s = test::generated_model("tetrahedron", 4);
   Params p;
   p.degree = 5;
   EXPECT_THROW(run(s, p), core::ConfigError);
