@@ -81,7 +81,8 @@ void print_summary(const std::string& workdir, const std::vector<std::string>& s
       {"split", {"components", "quad_patches"}},
       {"polycube", {"cubes", "flipped_surface_triangles", "max_angle_distortion_deg"}},
       {"tmesh", {"nodes", "elements", "max_level", "min_scaled_jacobian_after"}},
-      {"extract", {"bezier_elements", "degree", "min_scaled_jacobian", "max_scaled_jacobian", "hausdorff_rel", "volume_rel_error"}},
+      {"extract", {"bezier_elements", "degree", "certified_valid", "undecided", "min_scaled_jacobian", "max_scaled_jacobian",
+                   "hausdorff_rel", "volume_rel_error"}},
       {"tet2hex", {"tets", "bezier_elements", "degree", "certified_valid", "min_scaled_jacobian", "hausdorff_rel", "volume_rel_error",
                    "boundary_faces_reverted"}}};
   std::cout << "\nvolts summary (" << workdir << "/report.json)\n";
