@@ -56,7 +56,7 @@ Decomposition split(const surface::Mesh& mesh, const classify::Classification& c
       << c.curves.size() << " curves, " << c.corners.size() << " corners, " << quads
       << " quad patches); only a genus-0 surface whose sharp curves bound six quad patches like a cube is "
          "supported yet — the harmonic-field split of tori and holes (Liu et al. §4.1) is not implemented "
-         "(issue 5), use route: tet once available";
+         "(issue 5); to mesh it now, set `route: tet` in the config";
     throw core::TopologyError(s.str());
   }
   Decomposition d;
