@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "core/errors.h"
+#include "core/limits.h"
 
 namespace fs = std::filesystem;
 
@@ -48,6 +49,11 @@ std::string read_text_file(const std::string& path) {
   if (fs::is_directory(path)) throw InvalidInputError(path + ": is a directory, expected a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInputError(path + ": cannot open file (does it exist?)");
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  if (!ec && size > physical_memory_bytes() / 2)
+    throw InvalidInputError(path + ": is " + std::to_string(size) + " bytes, more than this machine can hold (limit " +
+                            std::to_string(physical_memory_bytes() / 2) + ")");
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();

@@ -67,6 +67,9 @@ Mesh mesh_from_json(const core::Json& j, const std::string& file) {
     if (mesh.add_face(vs[0], vs[1], vs[2]) == Mesh::null_face())
       throw core::InvalidInputError(file + ": face " + std::to_string(f) + " breaks manifoldness");
   }
+  // Stage files carry a validated surface; a hand-edited one that is no longer closed is refused
+  // before algorithms that assume it.
+  if (!CGAL::is_closed(mesh)) throw core::InvalidInputError(file + ": the surface in the stage file is not closed");
   return mesh;
 }
 

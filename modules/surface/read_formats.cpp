@@ -21,12 +21,17 @@
 #include <string_view>
 
 #include "core/errors.h"
+#include "core/limits.h"
 #include "surface/formats.h"
 
 namespace volts::surface::detail {
 namespace {
 
 constexpr std::size_t npos = std::string_view::npos;
+
+// Rough memory per declared vertex and face through reading, welding and the mesh (for
+// core::check_declared_count): a point in the soup, its copy, the mesh's vertex and halfedges.
+constexpr std::size_t kBytesPerVertex = 128, kBytesPerFace = 160;
 
 [[noreturn]] void fail(const std::string& path, const std::string& problem) {
   throw core::InvalidInputError(path + ": " + problem);
@@ -260,6 +265,8 @@ RawSoup parse_off(const std::string& path, const std::string& text) {
   // CGAL keeps the header's int counts in size_t, where a negative count becomes huge.
   const std::size_t nv = header.size_of_vertices(), nf = header.size_of_facets();
   if (nv > INT_MAX || nf > INT_MAX) fail(path, "malformed OFF header: negative vertex or face count (" + quote(header_line) + ")");
+  core::check_declared_count(path, nv, "vertices", kBytesPerVertex);
+  core::check_declared_count(path, nf, "faces", kBytesPerFace);
   check_off_lines(path, text, header_end, nv, nf);
 
   in.clear();
@@ -374,7 +381,10 @@ RawSoup parse_stl(const std::string& path, const std::string& text) {
   // Binary STL: 80-byte header, triangle count, 50 bytes per triangle. Its header may well start
   // with "solid", so the size decides, not the first word.
   const std::size_t triangles = size >= 84 ? little_endian_u32(text.data() + 80) : 0;
-  if (size >= 84 && size == 84 + 50 * triangles) return parse_binary_stl(text, triangles);
+  if (size >= 84 && size == 84 + 50 * triangles) {
+    core::check_declared_count(path, triangles, "triangles", 3 * kBytesPerVertex + kBytesPerFace);
+    return parse_binary_stl(text, triangles);
+  }
 
   const std::size_t first = text.find_first_not_of(" \t\r\n\f\v");
   if (first == npos || text.compare(first, 5, "solid") != 0) {
@@ -612,6 +622,8 @@ void check_ply_list_counts(const std::string& path, const std::string& text, con
 
 RawSoup parse_ply(const std::string& path, const std::string& text) {
   const PlyHeader header = parse_ply_header(path, text);
+  for (const auto& e : header.elements)
+    core::check_declared_count(path, e.count, e.name + " elements", e.name == "face" ? kBytesPerFace : kBytesPerVertex);
   check_ply_list_counts(path, text, header);
   std::istringstream in(text);
   RawSoup soup;

@@ -140,7 +140,9 @@ void check_soup_surface(const std::vector<Point>& points, const std::vector<Poly
   }
 
   Tally non_manifold, boundary, misoriented;
-  for (const auto& [b, e] : groups) {
+  for (const auto& group : groups) {
+    // Plain variables, not a structured binding: C++17 lambdas cannot capture those (clang refuses).
+    const std::size_t b = group.first, e = group.second;
     const EdgeUse& u = uses[b];
     if (e - b > 2)
       non_manifold.add([&] { return "the edge between " + edge_name(u.lo, u.hi, name) + " (" + std::to_string(e - b) + " faces)"; });
@@ -174,7 +176,8 @@ void check_soup_surface(const std::vector<Point>& points, const std::vector<Poly
   CGAL::Union_find<std::size_t> face_sets;
   std::vector<CGAL::Union_find<std::size_t>::handle> face(faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f) face[f] = face_sets.make_set(f);
-  for (const auto& [b, e] : groups) {
+  for (const auto& group : groups) {
+    const std::size_t b = group.first;
     const EdgeUse& u = uses[b];
     const EdgeUse& v = uses[b + 1];
     corner_sets.unify_sets(corner[u.from], corner[v.to]);  // opposite directions: u.from and v.to are one vertex
