@@ -10,3 +10,7 @@ find_package(GTest)
 # TetGen has no CMake config.
 find_library(TETGEN_LIBRARY NAMES tet)
 find_path(TETGEN_INCLUDE_DIR NAMES tetgen.h)
+
+# NLopt (Debian libnlopt-cxx-dev): nlopt.hpp is a header-only C++ wrapper of libnlopt.
+find_library(NLOPT_LIBRARY NAMES nlopt)
+find_path(NLOPT_INCLUDE_DIR NAMES nlopt.hpp)

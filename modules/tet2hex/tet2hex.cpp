@@ -70,7 +70,7 @@ EntityKey entity_of(const PointKey& k) {
 // Curved control points of the boundary edges and faces: interpolation of the closest surface
 // points at the Lagrange nodes (uniform in barycentric coordinates). Edges first; faces then solve
 // only for their interior points, so shared edges are bit-identical.
-std::map<PointKey, Eigen::Vector3d> curved_points(const TetMesh& mesh, const std::vector<std::array<int, 2>>& bfaces, const Tree& tree, int n) {
+std::map<PointKey, Eigen::Vector3d> curved_points(const tetmesh::TetMesh& mesh, const std::vector<std::array<int, 2>>& bfaces, const Tree& tree, int n) {
   std::map<PointKey, Eigen::Vector3d> cp;
   if (n < 2) return cp;
   std::set<std::array<int, 2>> edges;
@@ -135,7 +135,7 @@ std::map<PointKey, Eigen::Vector3d> curved_points(const TetMesh& mesh, const std
   return cp;
 }
 
-bezier::BezierTet build_tet(const TetMesh& mesh, int t, int n, const std::map<PointKey, Eigen::Vector3d>& curved,
+bezier::BezierTet build_tet(const tetmesh::TetMesh& mesh, int t, int n, const std::map<PointKey, Eigen::Vector3d>& curved,
                             const std::set<EntityKey>& flat) {
   const auto& g = mesh.tets[t];
   bezier::BezierTet tet;
@@ -182,8 +182,8 @@ Mesh remesh(const Mesh& in, double edge_rel) {
 }
 
 // The corners of the tets as a TetMesh (points welded by exact position), for .vtu input.
-TetMesh corner_mesh(const std::vector<bezier::BezierTet>& tets) {
-  TetMesh m;
+tetmesh::TetMesh corner_mesh(const std::vector<bezier::BezierTet>& tets) {
+  tetmesh::TetMesh m;
   std::map<std::array<double, 3>, int> id;
   for (const auto& t : tets) {
     const int n = t.degree;
@@ -202,8 +202,8 @@ TetMesh corner_mesh(const std::vector<bezier::BezierTet>& tets) {
 
 // The boundary triangles as a closed, outward surface (faces opposite vertex x of a positive tet
 // are outward as listed).
-Mesh boundary_surface(const TetMesh& m, const std::vector<std::array<int, 2>>& bfaces) {
-  static const int face[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+Mesh boundary_surface(const tetmesh::TetMesh& m, const std::vector<std::array<int, 2>>& bfaces) {
+  const auto& face = tetmesh::kOutwardFace;
   Mesh s;
   std::map<int, Mesh::Vertex_index> vid;
   auto vertex = [&](int g) {
@@ -224,10 +224,10 @@ Mesh boundary_surface(const TetMesh& m, const std::vector<std::array<int, 2>>& b
 
 }  // namespace
 
-std::vector<bezier::BezierTet> bezier_tets(const TetMesh& mesh, const Mesh& surface, const Params& params, Result& r) {
+std::vector<bezier::BezierTet> bezier_tets(const tetmesh::TetMesh& mesh, const Mesh& surface, const Params& params, Result& r) {
   check_params(params);
   const int n = params.degree;
-  const auto bfaces = boundary_faces(mesh);
+  const auto bfaces = tetmesh::boundary_faces(mesh);
   r.degree = n;
   r.boundary_faces = static_cast<int>(bfaces.size());
   std::map<PointKey, Eigen::Vector3d> curved;
@@ -340,14 +340,14 @@ Result run(const Mesh& input, const Params& params) {
     core::log(std::to_string(surf.number_of_faces()) + " triangles after remeshing");
   }
   r.surface_triangles = static_cast<int>(surf.number_of_faces());
-  TetMesh mesh;
+  tetmesh::TetMesh mesh;
   {
     core::LogSection s("tetrahedralize (TetGen)");
-    mesh = tetrahedralize(surf, params.tetgen);
+    mesh = tetmesh::tetrahedralize(surf, params.tetgen);
     core::log(std::to_string(mesh.tets.size()) + " tets, " + std::to_string(mesh.points.size()) + " vertices");
   }
   bezier_tets(mesh, input, params, r);
-  convert_and_measure(r, input, boundary_faces(mesh), params);
+  convert_and_measure(r, input, tetmesh::boundary_faces(mesh), params);
   return r;
 }
 
@@ -357,8 +357,8 @@ Result run(const std::vector<bezier::BezierTet>& tets, const Params& params) {
   Result r;
   r.degree = std::max(tets[0].degree, params.degree);
   for (const auto& t : tets) r.tets.push_back(t.degree < r.degree ? bezier::elevate_degree(t, r.degree) : t);
-  const TetMesh corners = corner_mesh(tets);
-  const auto bfaces = boundary_faces(corners);
+  const tetmesh::TetMesh corners = corner_mesh(tets);
+  const auto bfaces = tetmesh::boundary_faces(corners);
   r.boundary_faces = static_cast<int>(bfaces.size());
   const Mesh surf = boundary_surface(corners, bfaces);
   r.surface_triangles = static_cast<int>(surf.number_of_faces());

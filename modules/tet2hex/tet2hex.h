@@ -18,7 +18,7 @@ namespace volts::tet2hex {
 
 /// Parameters of the tet route (config section `tet2hex`).
 struct Params {
-  TetgenParams tetgen;           ///< TetGen quality switches
+  tetmesh::TetgenParams tetgen;  ///< TetGen quality switches
   double remesh_edge_rel = 0.0;  ///< if > 0: remesh the surface isotropically first (CGAL) to this edge length / bbox diagonal [0, 0.5]; sharp edges kept
   int degree = 3;                ///< degree n of the tets and hexes [1, 4]
   bool curve_boundary = true;    ///< n >= 2: move boundary control points onto the input surface (interpolating it at the Lagrange nodes); reverted where not certified valid
@@ -50,7 +50,7 @@ struct Result {
 /// points). Shared edges and faces get identical control points (conforming). Tets whose hexes
 /// are not certified valid get their boundary entities flat again, until every tet is valid; the
 /// counts go to `r` (boundary_faces*). Throws core::ConfigError for a degree out of range.
-std::vector<bezier::BezierTet> bezier_tets(const TetMesh& mesh, const surface::Mesh& surface, const Params& params, Result& r);
+std::vector<bezier::BezierTet> bezier_tets(const tetmesh::TetMesh& mesh, const surface::Mesh& surface, const Params& params, Result& r);
 
 /// Converts every tet into four hexes (Theorem 3), certifies them and measures them against
 /// `surface` (hausdorff_rel, volume). `boundary` lists the boundary tet faces as {tet, opposite vertex}.

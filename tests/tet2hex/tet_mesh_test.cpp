@@ -1,4 +1,4 @@
-// TetGen tetrahedralization of generated solids and .vtu input of tets.
+// .vtu input of tets (the TetGen tetrahedralization is tested in tests/tetmesh).
 #include <gtest/gtest.h>
 
 #include <vtkCellData.h>
@@ -15,7 +15,6 @@
 #include <fstream>
 #include <set>
 
-#include "common/test_util.h"
 #include "core/errors.h"
 #include "tet2hex/tet_mesh.h"
 #include "test_util.h"
@@ -23,57 +22,6 @@
 using namespace volts;
 using namespace volts::tet2hex;
 namespace fs = std::filesystem;
-
-namespace {
-double volume(const TetMesh& m) {
-  double v = 0;
-  for (const auto& t : m.tets) {
-    const double d = (m.points[t[1]] - m.points[t[0]]).cross(m.points[t[2]] - m.points[t[0]]).dot(m.points[t[3]] - m.points[t[0]]) / 6;
-    EXPECT_GT(d, 0);
-    v += d;
-  }
-  return v;
-}
-}  // namespace
-
-TEST(Tetrahedralize, FillsTheSolidExactlyWithPositiveTets) {
-  for (const char* name : {"tetrahedron", "cone", "torus"}) {
-    const surface::Mesh s = test::generated_model(name, 8);
-    const TetMesh m = tetrahedralize(s, {});
-    ASSERT_GT(m.tets.size(), 0u) << name;
-    EXPECT_NEAR(volume(m), surface::signed_volume(s), 1e-10 * surface::signed_volume(s)) << name;
-    // -Y: the boundary is the input triangulation, face for face.
-    EXPECT_EQ(boundary_faces(m).size(), s.number_of_faces()) << name;
-  }
-}
-
-TEST(Tetrahedralize, QualityAndVolumeBoundsRefine) {
-  const surface::Mesh s = test::generated_model("cone", 8);
-  TetgenParams coarse;
-  coarse.max_radius_edge_ratio = 0;
-  TetgenParams fine;
-  fine.max_volume_rel = 0.002;
-  fine.keep_boundary = false;  // with -Y TetGen may leave big tets whose refinement would split the surface
-  const auto a = tetrahedralize(s, coarse), b = tetrahedralize(s, fine);
-  EXPECT_GT(b.tets.size(), a.tets.size());
-  double vmax = 0;
-  for (const auto& t : b.tets)
-    vmax = std::max(vmax, (b.points[t[1]] - b.points[t[0]]).cross(b.points[t[2]] - b.points[t[0]]).dot(b.points[t[3]] - b.points[t[0]]) / 6);
-  EXPECT_LE(vmax, 0.002 * surface::signed_volume(s) * (1 + 1e-9));
-}
-
-TEST(Tetrahedralize, ParametersOutOfRangeAreConfigErrors) {
-  const surface::Mesh s = test::generated_model("tetrahedron", 4);
-  TetgenParams p;
-  p.max_radius_edge_ratio = 0.5;
-  EXPECT_THROW(tetrahedralize(s, p), core::ConfigError);
-  p = {};
-  p.min_dihedral_deg = 45;
-  EXPECT_THROW(tetrahedralize(s, p), core::ConfigError);
-  p = {};
-  p.max_volume_rel = -1;
-  EXPECT_THROW(tetrahedralize(s, p), core::ConfigError);
-}
 
 // Bézier tets written in VTK's point order (with a negatively oriented one) read back as the same maps.
 TEST(ReadTetVtu, BezierTetsRoundTrip) {
