@@ -1,5 +1,7 @@
 #include "stage_main.h"
 
+#include <climits>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -48,6 +50,100 @@ surface::Mesh load_input_surface(const StageContext& ctx, core::Json* info) {
   core::log(std::to_string(mesh.number_of_vertices()) + " vertices, " + std::to_string(mesh.number_of_faces()) + " triangles");
   if (info) *info = j;
   return mesh;
+}
+
+namespace {
+
+[[noreturn]] void mismatch(const std::string& file, const std::string& what) {
+  throw core::InvalidInputError(file + ": stage data do not match: " + what);
+}
+
+void check_index(const std::string& file, const std::string& what, long long index, std::size_t size) {
+  if (index < 0 || static_cast<std::size_t>(index) >= size)
+    mismatch(file, what + " " + std::to_string(index) + " is out of range [0, " + std::to_string(size) + ")");
+}
+
+/// `v` (a number, or arrays of numbers at any depth) holds only integers that fit an int.
+void check_integers(const std::string& file, const std::string& name, const core::Json& v) {
+  if (v.is_array()) {
+    for (const auto& x : v) check_integers(file, name, x);
+    return;
+  }
+  if (!v.is_number_integer() || (v.is_number_unsigned() ? v.get<std::uint64_t>() > INT_MAX
+                                                          : v.get<std::int64_t>() < INT_MIN || v.get<std::int64_t>() > INT_MAX))
+    throw core::InvalidInputError(file + ": " + name + " must hold integers, got " + v.dump().substr(0, 40));
+}
+
+}  // namespace
+
+void check_integer_members(const std::string& file, const core::Json& j) {
+  static const std::vector<std::pair<const char*, std::vector<const char*>>> members = {
+      {"classification", {"corners", "face_patch", "patches", "sharp_edges", "genus"}},
+      {"decomposition", {"quad_patches"}},
+      {"polycube", {"corner_cube_coords", "patch_face", "flipped_surface_triangles"}},
+      {"tmesh", {"level", "degree", "size"}}};
+  for (const auto& [payload, keys] : members) {
+    const auto p = j.find(payload);
+    if (p == j.end() || !p->is_object()) continue;  // the payload reader reports it
+    for (const char* k : keys)
+      if (p->contains(k)) check_integers(file, std::string(payload) + "." + k, (*p)[k]);
+    // Lists of objects with integer members.
+    const char* list = std::string(payload) == "classification" ? "curves" : std::string(payload) == "decomposition" ? "components" : nullptr;
+    if (!list || !p->contains(list) || !(*p)[list].is_array()) continue;
+    for (const auto& item : (*p)[list]) {
+      if (!item.is_object()) continue;
+      for (const char* k : {"vertices", "patches"})
+        if (item.contains(k)) check_integers(file, std::string(payload) + "." + list + "[]." + k, item[k]);
+    }
+  }
+}
+
+void check_classification(const std::string& file, const surface::Mesh& mesh, const classify::Classification& c) {
+  const std::size_t nv = mesh.number_of_vertices(), nf = mesh.number_of_faces();
+  if (c.face_patch.size() != nf)
+    mismatch(file, "classification.face_patch has " + std::to_string(c.face_patch.size()) + " entries, the surface " +
+                       std::to_string(nf) + " faces");
+  if (c.patches < 1 || static_cast<std::size_t>(c.patches) > nf)
+    mismatch(file, "classification.patches " + std::to_string(c.patches) + " is not in [1, " + std::to_string(nf) + "]");
+  const std::size_t patches = static_cast<std::size_t>(c.patches);
+  for (const int p : c.face_patch) check_index(file, "classification.face_patch: patch", p, patches);
+  for (const int v : c.corners) check_index(file, "classification.corners: vertex", v, nv);
+  if (c.sharp_edge_vertices.size() % 2) mismatch(file, "classification.sharp_edges has an odd number of vertices");
+  for (const int v : c.sharp_edge_vertices) check_index(file, "classification.sharp_edges: vertex", v, nv);
+  if (c.genus < 0) mismatch(file, "classification.genus is negative");
+  for (const classify::Curve& k : c.curves) {
+    if (k.vertices.empty()) mismatch(file, "a classification curve has no vertices");
+    for (const int v : k.vertices) check_index(file, "classification curve: vertex", v, nv);
+    for (const int p : {k.patch_left, k.patch_right})
+      if (p != -1) check_index(file, "classification curve: patch", p, patches);
+  }
+}
+
+void check_decomposition(const std::string& file, const classify::Classification& c, const split::Decomposition& d) {
+  (void)c;
+  const std::size_t patches = d.layout.patches.size();
+  if (d.quad_patches < 0 || static_cast<std::size_t>(d.quad_patches) > patches) mismatch(file, "decomposition.quad_patches is out of range");
+  for (const split::Component& k : d.components)
+    for (const int p : k.patches) check_index(file, "decomposition component: patch", p, patches);
+}
+
+void check_polycube(const std::string& file, const surface::Mesh& mesh, const classify::Classification& c,
+                    const polycube::Polycube& p) {
+  if (p.vertex_uvw.size() != mesh.number_of_vertices())
+    mismatch(file, "polycube.vertex_uvw has " + std::to_string(p.vertex_uvw.size()) + " points, the surface " +
+                       std::to_string(mesh.number_of_vertices()) + " vertices");
+  if (p.patch_face.size() != static_cast<std::size_t>(c.patches))
+    mismatch(file, "polycube.patch_face has " + std::to_string(p.patch_face.size()) + " entries for " +
+                       std::to_string(c.patches) + " patches");
+  if (p.corner_cube_coords.size() != c.corners.size())
+    mismatch(file, "polycube.corner_cube_coords has " + std::to_string(p.corner_cube_coords.size()) + " entries for " +
+                       std::to_string(c.corners.size()) + " corners");
+  for (const auto& cc : p.corner_cube_coords)
+    for (const int x : cc)
+      if (x != 0 && x != 1) mismatch(file, "polycube.corner_cube_coords must be 0 or 1");
+  for (const auto& uvw : p.vertex_uvw)
+    for (const double x : uvw)
+      if (!(x >= -1e-9 && x <= 1 + 1e-9)) mismatch(file, "polycube.vertex_uvw must lie in the unit cube");
 }
 
 int run_stage(int argc, char** argv, const std::string& stage, const std::string& help,

@@ -5,6 +5,7 @@
 #include <functional>
 #include <string>
 
+#include "classify/classify.h"
 #include "config/config.h"
 #include "core/stage_file.h"
 #include "surface/surface.h"
@@ -32,6 +33,20 @@ struct StageContext {
 /// input.generate. Logs what it did (a flipped or welded surface) and returns the report's "input"
 /// figures in `info`. Throws core::ConfigError if there is no input, as read_surface/make_model else.
 surface::Mesh load_input_surface(const StageContext& ctx, core::Json* info);
+
+/// Checks that every integer member of the payloads of a stage file (classification,
+/// decomposition, polycube, tmesh; those present) is an integer in int's range: the payload
+/// readers convert with nlohmann's get<int>, and a float such as 1e30 cast to int is undefined.
+/// Throws core::InvalidInputError naming `file` and the member.
+void check_integer_members(const std::string& file, const core::Json& stage_file);
+
+/// Cross-checks of the payloads of one stage file: a file edited by hand, or assembled from
+/// mismatched runs, is refused here with core::InvalidInputError naming `file` and the first
+/// inconsistency, rather than reaching an algorithm that trusts its indices.
+void check_classification(const std::string& file, const surface::Mesh& mesh, const classify::Classification& c);
+void check_decomposition(const std::string& file, const classify::Classification& c, const split::Decomposition& d);
+void check_polycube(const std::string& file, const surface::Mesh& mesh, const classify::Classification& c,
+                    const polycube::Polycube& p);
 
 /// Parses `--config FILE --workdir DIR --input FILE --output FILE -v -q --help`, runs `body`, records
 /// time_s and the body's figures in DIR/report.json, and turns every volts error into

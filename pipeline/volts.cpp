@@ -78,7 +78,7 @@ void print_summary(const std::string& workdir, const std::vector<std::string>& s
   const core::Json r = core::read_report(workdir);
   static const std::map<std::string, std::vector<std::string>> keys = {
       {"classify", {"corners", "curves", "feature_curves", "difference_curves", "patches", "genus"}},
-      {"split", {"components", "quad_patches"}},
+      {"split", {"genus", "components", "tori", "quad_patches", "filled_triangles"}},
       {"polycube", {"cubes", "flipped_surface_triangles", "max_angle_distortion_deg"}},
       {"tmesh", {"nodes", "elements", "max_level", "min_scaled_jacobian_after"}},
       {"extract", {"bezier_elements", "degree", "certified_valid", "undecided", "min_scaled_jacobian", "max_scaled_jacobian",

@@ -14,10 +14,13 @@ int main(int argc, char** argv) {
       "DIR/polycube.vtp (surface with cube coordinates 'uvw'), DIR/polycube_mapped.vtp (the surface on the cube).",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("split");
-        const core::Json j = core::read_stage_file(in, "volts-split", 1);
+        const core::Json j = core::read_stage_file(in, "volts-split", 2);
+        pipeline::check_integer_members(in, j);
         const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
         const classify::Classification c = classify::from_json(core::require(j, "classification", in), in);
         const split::Decomposition d = split::from_json(core::require(j, "decomposition", in), in);
+        pipeline::check_classification(in, mesh, c);
+        pipeline::check_decomposition(in, c, d);
         polycube::Polycube p;
         {
           core::LogSection s("surface map");

@@ -1,5 +1,8 @@
 #include "config/config.h"
 
+#include <array>
+#include <cmath>
+
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
@@ -72,6 +75,47 @@ class Section {
     }
   }
 
+  /// A list of exactly `size` finite numbers.
+  void get(const std::string& key, std::vector<double>& value, std::size_t size) {
+    YAML::Node n = lookup(key);
+    if (!n.IsDefined()) return;
+    if (!n.IsSequence() || n.size() != size) fail_key(key, "must be a list of " + std::to_string(size) + " numbers");
+    std::vector<double> v;
+    for (const auto& x : n) {
+      double d = 0;
+      try {
+        d = x.as<double>();
+      } catch (const YAML::Exception&) {
+        fail_key(key, "must be a list of numbers, got '" + scalar(x) + "'");
+      }
+      if (!std::isfinite(d)) fail_key(key, "must hold finite numbers");
+      v.push_back(d);
+    }
+    value = v;
+  }
+
+  /// A list of exactly `count` points [x, y, z].
+  void get(const std::string& key, std::vector<std::array<double, 3>>& value, std::size_t count) {
+    YAML::Node n = lookup(key);
+    if (!n.IsDefined()) return;
+    if (!n.IsSequence() || n.size() != count) fail_key(key, "must be a list of " + std::to_string(count) + " points [x, y, z]");
+    std::vector<std::array<double, 3>> v;
+    for (const auto& p : n) {
+      if (!p.IsSequence() || p.size() != 3) fail_key(key, "each point must be [x, y, z]");
+      std::array<double, 3> q{};
+      for (int k = 0; k < 3; ++k) {
+        try {
+          q[k] = p[k].as<double>();
+        } catch (const YAML::Exception&) {
+          fail_key(key, "must hold numbers, got '" + scalar(p[k]) + "'");
+        }
+        if (!std::isfinite(q[k])) fail_key(key, "must hold finite numbers");
+      }
+      v.push_back(q);
+    }
+    value = v;
+  }
+
   void finish() const {
     if (!node_.IsDefined() || !node_.IsMap()) return;
     for (const auto& kv : node_) {
@@ -131,7 +175,14 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("corner_angle_deg", c.classify.corner_angle_deg, 1.0, 179.0);
     s.finish();
   }
-  top.section("split").finish();
+  {
+    Section s = top.section("split");
+    s.get("extreme_points", c.split.extreme_points, 2);
+    s.get("cross_section_plane", c.split.cross_section_plane, 6);
+    s.get("torus_cubes", c.split.torus_cubes, 4, 16);
+    s.get("hole", c.split.hole, {"auto", "torus", "difference"});
+    s.finish();
+  }
   {
     Section s = top.section("polycube");
     s.get("weights", c.polycube.weights, {"mean-value", "uniform"});
@@ -158,8 +209,14 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
       throw core::ConfigError(source + ": tet2hex.max_radius_edge_ratio: must be 0 (off) or in [1.1, 10]");
     s.get("min_dihedral_deg", t.tetgen.min_dihedral_deg, 0.0, 30.0);
     s.get("max_volume_rel", t.tetgen.max_volume_rel, 0.0, 1.0);
+    // Lower bounds keep the mesh within memory: at least 1/max_volume_rel tets, and about
+    // 1/remesh_edge_rel^2 surface triangles.
+    if (t.tetgen.max_volume_rel > 0 && t.tetgen.max_volume_rel < 1e-5)
+      throw core::ConfigError(source + ": tet2hex.max_volume_rel: must be 0 (off) or in [1e-05, 1] (more than 100000 tets otherwise)");
     s.get("keep_boundary", t.tetgen.keep_boundary);
     s.get("remesh_edge_rel", t.remesh_edge_rel, 0.0, 0.5);
+    if (t.remesh_edge_rel > 0 && t.remesh_edge_rel < 0.005)
+      throw core::ConfigError(source + ": tet2hex.remesh_edge_rel: must be 0 (off) or in [0.005, 0.5] (about a million triangles otherwise)");
     s.get("degree", t.degree, 1, 4);
     s.get("curve_boundary", t.curve_boundary);
     s.get("gauss_points", t.gauss_points, 0, 10);
@@ -202,7 +259,15 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "classify" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "sharp_angle_deg" << YAML::Value << c.classify.sharp_angle_deg;
   e << YAML::Key << "corner_angle_deg" << YAML::Value << c.classify.corner_angle_deg << YAML::EndMap;
-  e << YAML::Key << "split" << YAML::Value << YAML::BeginMap << YAML::EndMap;
+  e << YAML::Key << "split" << YAML::Value << YAML::BeginMap;
+  if (!c.split.extreme_points.empty()) {
+    e << YAML::Key << "extreme_points" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (const auto& p : c.split.extreme_points) e << YAML::Flow << YAML::BeginSeq << p[0] << p[1] << p[2] << YAML::EndSeq;
+    e << YAML::EndSeq;
+  }
+  if (!c.split.cross_section_plane.empty()) e << YAML::Key << "cross_section_plane" << YAML::Value << YAML::Flow << c.split.cross_section_plane;
+  e << YAML::Key << "torus_cubes" << YAML::Value << c.split.torus_cubes;
+  e << YAML::Key << "hole" << YAML::Value << c.split.hole << YAML::EndMap;
   e << YAML::Key << "polycube" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "weights" << YAML::Value << c.polycube.weights << YAML::EndMap;
   e << YAML::Key << "tmesh" << YAML::Value << YAML::BeginMap;

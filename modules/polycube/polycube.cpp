@@ -84,7 +84,8 @@ Polycube map_surface(const Mesh& mesh, const classify::Classification& c, const 
   if (params.weights != "mean-value" && params.weights != "uniform")
     throw core::ConfigError("polycube.weights must be 'mean-value' or 'uniform', not '" + params.weights + "'");
   if (d.components.size() != 1 || d.components[0].type != split::ComponentType::cube)
-    throw core::TopologyError("polycube: only a single cube component is supported yet (issue 6)");
+    throw core::TopologyError("polycube: only a single cube component is supported yet (issue 6); this decomposition has " +
+                              std::to_string(d.components.size()) + " components — set `route: tet` to mesh it");
 
   Polycube pc;
   const std::vector<int> code = cube_codes(c);

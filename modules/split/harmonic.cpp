@@ -5,6 +5,7 @@
 #include <map>
 
 #include "core/errors.h"
+#include "split/isoline.h"
 
 namespace volts::split {
 
@@ -103,6 +104,67 @@ std::vector<double> harmonic_field(const Mesh& mesh, const std::vector<Constrain
   std::vector<double> vals;
   for (const auto& c : constraints) vs.push_back(c.vertex), vals.push_back(c.value);
   return HarmonicSolver(mesh, vs).solve(vals);
+}
+
+std::vector<double> periodic_harmonic_field(const Mesh& mesh, const std::vector<int>& cut) {
+  const int nv = static_cast<int>(mesh.number_of_vertices());
+  const int n = static_cast<int>(cut.size());
+  if (n < 3) throw core::InvalidInputError("periodic harmonic field: a cut loop needs at least 3 vertices");
+  std::vector<int> pos(nv, -1);
+  for (int i = 0; i < n; ++i) {
+    if (cut[i] < 0 || cut[i] >= nv) throw core::InvalidInputError("periodic harmonic field: cut vertex out of range");
+    if (pos[cut[i]] >= 0) throw core::InvalidInputError("periodic harmonic field: the cut passes twice through vertex " + std::to_string(cut[i]));
+    pos[cut[i]] = i;
+  }
+  using VI = Mesh::Vertex_index;
+  // shift[h] = 1 for the halfedges leaving a cut vertex into its right-hand fan: the values of
+  // the cut vertex seen from that side are one period higher.
+  std::vector<char> right(mesh.number_of_halfedges(), 0);
+  for (int i = 0; i < n; ++i) {
+    const VI c(cut[i]), next(cut[(i + 1) % n]), prev(cut[(i + n - 1) % n]);
+    const auto hn = mesh.halfedge(c, next), hp = mesh.halfedge(c, prev);
+    if (hn == Mesh::null_halfedge() || hp == Mesh::null_halfedge())
+      throw core::InvalidInputError("periodic harmonic field: consecutive cut vertices " + std::to_string(cut[i]) +
+                                    " and " + std::to_string(cut[(i + 1) % n]) + " are not joined by an edge");
+    for (auto h = mesh.opposite(mesh.prev(hn)); h != hp; h = mesh.opposite(mesh.prev(h))) right[h] = 1;
+  }
+  const auto w = cotangent_weights(mesh);
+  // Minimize sum_e w_e (u_b + s_b - u_a - s_a)^2, s = the shift of each end on that edge; u_pin = 0.
+  const int pin = 0;
+  std::vector<Eigen::Triplet<double>> trip;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nv);
+  std::vector<double> diag(nv, 0.0);
+  for (auto e : mesh.edges()) {
+    const auto h = mesh.halfedge(e), g = mesh.opposite(h);
+    const int a = static_cast<int>(mesh.source(h)), b = static_cast<int>(mesh.target(h));
+    const double t = static_cast<double>(right[g]) - static_cast<double>(right[h]);  // s_b - s_a
+    diag[a] += w[e], diag[b] += w[e];
+    trip.emplace_back(a, b, -w[e]);
+    trip.emplace_back(b, a, -w[e]);
+    rhs[a] += w[e] * t;
+    rhs[b] -= w[e] * t;
+  }
+  for (int v = 0; v < nv; ++v) trip.emplace_back(v, v, diag[v]);
+  // Pin one vertex: replace its row and column by the identity.
+  std::vector<Eigen::Triplet<double>> kept;
+  for (const auto& tr : trip)
+    if (tr.row() != pin && tr.col() != pin) kept.push_back(tr);
+  kept.emplace_back(pin, pin, 1.0);
+  rhs[pin] = 0;
+  Eigen::SparseMatrix<double> L(nv, nv);
+  L.setFromTriplets(kept.begin(), kept.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(L);
+  if (ldlt.info() != Eigen::Success) throw core::NumericalError("periodic harmonic field: factorization failed");
+  const Eigen::VectorXd u = ldlt.solve(rhs);
+  if (ldlt.info() != Eigen::Success || !u.allFinite()) throw core::NumericalError("periodic harmonic field: solve failed");
+  std::vector<double> out(nv);
+  double spread = 0;
+  for (int v = 0; v < nv; ++v) {
+    out[v] = u[v] - std::floor(u[v]);
+    spread = std::max(spread, std::abs(circle_difference(out[v], out[pin], 1.0)));
+  }
+  if (spread < 1e-6) throw core::TopologyError("periodic harmonic field: the cut loop separates the surface (no period around it)");
+  return out;
 }
 
 int CriticalPoints::saddle_count() const {

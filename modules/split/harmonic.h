@@ -41,6 +41,16 @@ class HarmonicSolver {
 /// is constrained twice.
 std::vector<double> harmonic_field(const surface::Mesh& mesh, const std::vector<Constraint>& constraints);
 
+/// Circle-valued harmonic function with period 1 around a closed loop `cut` of mesh vertices
+/// (consecutive ones joined by edges; not repeating the first): minimizes the cotangent Dirichlet
+/// energy on the surface cut open along the loop, where values jump by 1 across it. On a torus cut
+/// along a meridian its level sets are meridians; along a longitude, longitudes (Liu et al. §4.1,
+/// step 5: the lines that close around the ring; gradient lines of a ring field do not close when
+/// the torus is twisted). Values are returned modulo 1, in [0, 1); the difference along an edge is
+/// circle_difference(a, b, 1). Throws core::InvalidInputError for a loop that is not an edge loop
+/// of simple vertices, core::NumericalError if the solve fails (e.g. the loop separates the surface).
+std::vector<double> periodic_harmonic_field(const surface::Mesh& mesh, const std::vector<int>& cut);
+
 /// Critical points of a piecewise-linear field, from the sign pattern of f(u) - f(v) around each
 /// vertex's link (ties broken by vertex index, i.e. symbolic perturbation, so every vertex is
 /// classified). A saddle with 2k sign changes has multiplicity k - 1 (a monkey saddle counts 2).

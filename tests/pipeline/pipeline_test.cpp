@@ -186,14 +186,26 @@ TEST(Pipeline, WrongStageFileVersionIsRefused) {
   EXPECT_FALSE(fs::exists(d / "split.stage.json"));
 }
 
-TEST(Pipeline, SplitRefusesANonBoxSurfaceWithATopologyError) {
+TEST(Pipeline, TorusSplitsIntoARingThenPolycubeRefusesItWithATopologyError) {
+  // Split handles the torus (a ring of four cubes); the polycube of a ring is issue 6, so the run
+  // stops there with exit 5, a message that says what to do, and nothing written by polycube.
   const fs::path d = test::fresh_dir("pipeline", "torus_split");
   test::write_text(d / "run.yaml", "input: {generate: torus}\n");
   const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
   EXPECT_EQ(r.code, 5) << r.output;
-  EXPECT_NE(r.output.find("not box-like (genus 1"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("--from split"), std::string::npos) << r.output;
-  EXPECT_FALSE(fs::exists(d / "w" / "split.stage.json"));
+  EXPECT_NE(r.output.find("polycube: only a single cube component"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("route: tet"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(d / "w" / "split.stage.json"));
+  EXPECT_TRUE(fs::exists(d / "w" / "split.vtp"));
+  EXPECT_FALSE(fs::exists(d / "w" / "polycube.stage.json"));
+  const core::Json rep = core::read_report((d / "w").string());
+  const core::Json& s = rep["stages"]["split"];
+  EXPECT_EQ(s["genus"], 1);
+  EXPECT_EQ(s["tori"], 1);
+  ASSERT_EQ(s["components"].size(), 4u);
+  for (const auto& c : s["components"]) EXPECT_EQ(c["type"], "torus_cube");
+  EXPECT_EQ(s["quad_patches"], 16);
+  EXPECT_EQ(s["critical_points"]["saddle"], 2);
 }
 
 TEST(Pipeline, EveryExecutableHasHelp) {

@@ -1,0 +1,61 @@
+// volts::split — quad layouts on a triangle surface: cut curves given as sets of mesh edges, the
+// patches they bound, their corners and sides (Liu et al. 2013, §4.1: the patches that become
+// polycube faces). Internal to the split module.
+#pragma once
+
+#include <array>
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "split/split.h"
+#include "surface/surface.h"
+
+namespace volts::split::detail {
+
+/// An undirected mesh edge as (smaller vertex, larger vertex).
+using Edge = std::pair<int, int>;
+inline Edge edge(int a, int b) { return a < b ? Edge{a, b} : Edge{b, a}; }
+
+/// Cut edges labelled by the curve they belong to (a curve id >= 0).
+using LabelledEdges = std::map<Edge, int>;
+
+/// Keeps labelled edges valid while isoline insertion splits edges: (a, b, v) replaces a–b by a–v, v–b.
+void apply_splits(LabelledEdges& edges, const std::vector<std::array<int, 3>>& splits);
+void apply_splits(std::set<Edge>& edges, const std::vector<std::array<int, 3>>& splits);
+
+/// The edges a vertex loop runs along.
+void add_loop(LabelledEdges& edges, const std::vector<int>& loop, int label, bool closed = true);
+
+/// Chains a set of edges in which every vertex has degree 2 into closed loops (deterministic
+/// order: by smallest vertex). Throws core::TopologyError naming a vertex of another degree.
+std::vector<std::vector<int>> chain_loops(const std::set<Edge>& edges);
+
+/// Sum of the circle differences of a periodic field (period 1) along a closed loop: its period
+/// around that loop, rounded to an integer.
+int loop_period(const std::vector<int>& loop, const std::vector<double>& field);
+
+/// A face region bounded by cut edges, with its boundary loops (counter-clockwise seen from outside).
+struct Region {
+  std::vector<int> faces;
+  std::vector<std::vector<int>> loops;
+  int euler = 0;  ///< V - E + F of the region (1 for a disk)
+};
+
+/// Face regions of `mesh` bounded by `cuts`; face_region receives each face's region id.
+std::vector<Region> regions(const surface::Mesh& mesh, const std::set<Edge>& cuts, std::vector<int>* face_region);
+
+/// The quad patch of a region whose only boundary loop carries exactly four vertices with
+/// is_corner set. Throws core::TopologyError "split: <what> <id> is not a quad patch (...)" otherwise.
+Patch quad_patch(const Region& r, const std::vector<char>& is_corner, const std::string& what, int id);
+
+/// Splits a closed loop at its corners into four sides starting at the corner with the smallest id
+/// (InternalFace). Throws core::TopologyError unless exactly four loop vertices are corners.
+InternalFace internal_face(const std::vector<int>& loop, const std::vector<char>& is_corner, int id);
+
+/// Layout points and triangles of a mesh without removed elements (face index = triangle id).
+void copy_mesh(const surface::Mesh& mesh, Layout& layout);
+
+}  // namespace volts::split::detail

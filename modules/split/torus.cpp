@@ -1,0 +1,475 @@
+// Torus components (Liu et al. 2013, §4.1, the five steps of Fig. 4).
+//
+// Steps 1–3 as in the paper: a harmonic field with its min and max at the extreme points along the
+// principal axis; its level set between the two saddles contains a loop around the tube that does
+// not separate the surface (a meridian). Steps 4–5 are done with circle-valued harmonic fields
+// instead of a second Dirichlet field and traced gradient lines: u (period 1 across that meridian)
+// has meridians as level sets, v (period 1 across a loop around the ring) longitudes. Their level
+// sets are inserted exactly (edge crossings) and never cross each other more than once, and the
+// longitudes close up on themselves, which gradient lines of a ring field do not do on a twisted
+// torus (holonomy). Equally spaced levels give equally spaced cross sections in the harmonic sense.
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <queue>
+#include <sstream>
+
+#include "core/errors.h"
+#include "split/harmonic.h"
+#include "split/isoline.h"
+#include "split/split_internal.h"
+
+namespace volts::split::detail {
+
+using surface::Mesh;
+using VI = Mesh::Vertex_index;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kLongitudeLabel = 1000;  // cut labels: cross section k -> k, longitude j -> 1000 + j
+
+Eigen::Vector3d pt(const Mesh& m, int v) {
+  const auto& p = m.point(VI(v));
+  return {p.x(), p.y(), p.z()};
+}
+
+Eigen::Vector3d principal_axis(const Mesh& m) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (auto v : m.vertices()) mean += pt(m, static_cast<int>(v));
+  mean /= static_cast<double>(m.number_of_vertices());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (auto v : m.vertices()) {
+    const Eigen::Vector3d d = pt(m, static_cast<int>(v)) - mean;
+    cov += d * d.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  return es.eigenvectors().col(2);
+}
+
+bool separates(const Mesh& m, const std::vector<int>& loop) {
+  const auto label = regions_cut_by(m, {loop});
+  return *std::max_element(label.begin(), label.end()) > 0;
+}
+
+// Whether the level set {f = c} has a loop that does not separate the surface (tried on a copy).
+bool has_ring_section(const Mesh& m, const std::vector<double>& f, double c) {
+  Mesh copy = m;
+  std::vector<double> g = f;
+  try {
+    for (const auto& loop : insert_isoline(copy, g, c))
+      if (!separates(copy, loop)) return true;
+  } catch (const core::TopologyError&) {
+  }
+  return false;
+}
+
+// Shortest edge loop that leaves meridian A on one side of A[i] and comes back from the other side
+// without touching A elsewhere: it runs once around the ring. Returns its length (inf if none).
+double ring_loop_through(const Mesh& m, const std::vector<int>& A, int i, std::vector<int>* out) {
+  const int a = A[i], n = static_cast<int>(A.size());
+  std::vector<char> on_a(m.number_of_vertices(), 0);
+  for (int v : A) on_a[v] = 1;
+  const auto hn = m.halfedge(VI(a), VI(A[(i + 1) % n])), hp = m.halfedge(VI(a), VI(A[(i + n - 1) % n]));
+  std::vector<char> right(m.number_of_vertices(), 0);
+  for (auto h = m.opposite(m.prev(hn)); h != hp; h = m.opposite(m.prev(h))) right[m.target(h)] = 1;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> dist(m.number_of_vertices(), inf);
+  std::vector<int> from(m.number_of_vertices(), -1);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (auto h : CGAL::halfedges_around_source(VI(a), m)) {
+    const int x = static_cast<int>(m.target(h));
+    if (on_a[x] || !right[x]) continue;
+    dist[x] = (pt(m, x) - pt(m, a)).norm();
+    from[x] = a;
+    queue.push({dist[x], x});
+  }
+  while (!queue.empty()) {
+    const auto [d, x] = queue.top();
+    queue.pop();
+    if (d > dist[x]) continue;
+    for (auto h : CGAL::halfedges_around_source(VI(x), m)) {
+      const int y = static_cast<int>(m.target(h));
+      if (on_a[y]) continue;
+      const double dy = d + (pt(m, x) - pt(m, y)).norm();
+      if (dy < dist[y]) dist[y] = dy, from[y] = x, queue.push({dy, y});
+    }
+  }
+  int best = -1;
+  double best_d = inf;
+  for (auto h : CGAL::halfedges_around_source(VI(a), m)) {
+    const int y = static_cast<int>(m.target(h));
+    if (on_a[y] || right[y] || dist[y] == inf) continue;
+    const double dy = dist[y] + (pt(m, y) - pt(m, a)).norm();
+    if (dy < best_d) best_d = dy, best = y;
+  }
+  if (best < 0) return inf;
+  out->clear();
+  for (int x = best; x != a; x = from[x]) out->push_back(x);
+  out->push_back(a);
+  std::reverse(out->begin(), out->end());
+  return best_d;
+}
+
+// The shortest loop once around the ring through any vertex of A (at most 64 tried, evenly spaced).
+// The shortest through a given vertex may wind around the tube as well (a helix through the outer
+// equator is shorter than the outer equator); the shortest of all does not.
+std::vector<int> shortest_ring_loop(const Mesh& m, const std::vector<int>& A) {
+  const std::size_t n = A.size(), step = std::max<std::size_t>(1, n / 64);
+  std::vector<int> best, loop;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; i += step) {
+    const double d = ring_loop_through(m, A, static_cast<int>(i), &loop);
+    if (d < best_d) best_d = d, best = loop;
+  }
+  if (best.empty()) throw core::TopologyError("split: no loop runs around the ring from the first cross section; is the surface a torus?");
+  return best;
+}
+
+// Circular mean of a periodic field (period 1) over some vertices, in [0, 1).
+double circular_mean(const std::vector<int>& vs, const std::vector<double>& f) {
+  double s = 0, c = 0;
+  for (int v : vs) s += std::sin(2 * kPi * f[v]), c += std::cos(2 * kPi * f[v]);
+  double m = std::atan2(s, c) / (2 * kPi);
+  return m - std::floor(m);
+}
+
+// Mean dihedral angle along a closed curve: how sharp it is.
+double sharpness(const Mesh& m, const std::vector<int>& loop) {
+  double sum = 0;
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const auto h = m.halfedge(VI(loop[i]), VI(loop[(i + 1) % loop.size()]));
+    const auto n1 = CGAL::Polygon_mesh_processing::compute_face_normal(m.face(h), m);
+    const auto n2 = CGAL::Polygon_mesh_processing::compute_face_normal(m.face(m.opposite(h)), m);
+    sum += std::acos(std::clamp(n1 * n2, -1.0, 1.0));
+  }
+  return sum / static_cast<double>(loop.size());
+}
+
+struct Line {
+  bool sharp = false;
+  int vertex = -1;       // sharp: an input vertex on it (ids of existing vertices never change)
+  double v = 0;          // level of v (not sharp) or circular mean of v (sharp)
+  double v_lo = 0, v_hi = 0;  // sharp: range of v around the mean
+  double sharpness = 0;
+  bool corner = false;   // one of the four lines at cube edges
+};
+
+double circ_dist(double a, double b) { return std::abs(circle_difference(a, b, 1.0)); }
+
+// The level nearest to c halfway between two consecutive vertex values, so that no vertex lies on
+// the level set (a level through vertices makes slivers, or whole triangles on the level, on
+// symmetric meshes).
+double between_vertices(double c, const std::vector<double>& f, double period) {
+  double below = -std::numeric_limits<double>::infinity(), above = std::numeric_limits<double>::infinity();
+  for (double x : f) {
+    const double d = circle_difference(c, x, period);
+    if (d <= 0) below = std::max(below, d);
+    if (d >= 0) above = std::min(above, d);
+  }
+  if (below == 0 && above == 0) {  // c is a vertex value: take the wider gap beside it
+    double b2 = -std::numeric_limits<double>::infinity(), a2 = std::numeric_limits<double>::infinity();
+    for (double x : f) {
+      const double d = circle_difference(c, x, period);
+      if (d < 0) b2 = std::max(b2, d);
+      if (d > 0) a2 = std::min(a2, d);
+    }
+    if (-b2 > a2) above = 0, below = b2;
+    else below = 0, above = a2;
+  }
+  if (!std::isfinite(below) || !std::isfinite(above)) return c;
+  double level = c + 0.5 * (below + above);
+  if (period > 0) level -= period * std::floor(level / period);
+  return level;
+}
+
+}  // namespace
+
+Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, const Params& prm) {
+  if (prm.torus_cubes < 4 || prm.torus_cubes > 16) throw core::ConfigError("split.torus_cubes must be in [4, 16]");
+  Mesh mesh = input;
+  std::set<Edge> sharp = sharp_in;
+  Decomposition d;
+  d.genus = 1;
+
+  // Steps 1–3: the first cross section A.
+  std::vector<double> f;
+  std::vector<int> A;
+  std::vector<std::array<int, 3>> splits;
+  IsolineOptions opt;
+  opt.splits = &splits;
+  if (!prm.cross_section_plane.empty()) {
+    const auto& q = prm.cross_section_plane;
+    if (q.size() != 6) throw core::ConfigError("split.cross_section_plane must be [px, py, pz, nx, ny, nz]");
+    const Eigen::Vector3d p0(q[0], q[1], q[2]), n = Eigen::Vector3d(q[3], q[4], q[5]).normalized();
+    if (!n.allFinite()) throw core::ConfigError("split.cross_section_plane has a zero normal");
+    for (auto v : mesh.vertices()) f.push_back((pt(mesh, static_cast<int>(v)) - p0).dot(n));
+    const auto loops = insert_isoline(mesh, f, between_vertices(0.0, f, 0.0), opt);
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& l : loops) {
+      if (separates(mesh, l)) continue;
+      double dmin = std::numeric_limits<double>::infinity();
+      for (int v : l) dmin = std::min(dmin, (pt(mesh, v) - p0).norm());
+      if (dmin < best) best = dmin, A = l;
+    }
+    if (A.empty())
+      throw core::TopologyError("split: the plane split.cross_section_plane cuts no loop around the tube of the torus; move it so it crosses the ring");
+  } else {
+    int lo = -1, hi = -1;
+    if (!prm.extreme_points.empty()) {
+      if (prm.extreme_points.size() != 2) throw core::ConfigError("split.extreme_points must be two points [[x,y,z], [x,y,z]]");
+      lo = nearest_vertex(mesh, prm.extreme_points[0]);
+      hi = nearest_vertex(mesh, prm.extreme_points[1]);
+    } else {
+      const Eigen::Vector3d axis = principal_axis(mesh);
+      double flo = std::numeric_limits<double>::infinity(), fhi = -flo;
+      for (auto v : mesh.vertices()) {
+        const double h = pt(mesh, static_cast<int>(v)).dot(axis);
+        if (h < flo) flo = h, lo = static_cast<int>(v);
+        if (h > fhi) fhi = h, hi = static_cast<int>(v);
+      }
+    }
+    if (lo == hi)
+      throw core::TopologyError("split: the min and max of the harmonic field fall on the same vertex " + std::to_string(lo) +
+                                "; set split.extreme_points to two distinct points");
+    f = harmonic_field(mesh, {{lo, 0.0}, {hi, 1.0}});
+    const CriticalPoints cp = critical_points(mesh, f);
+    d.critical_min = static_cast<int>(cp.minima.size());
+    d.critical_max = static_cast<int>(cp.maxima.size());
+    d.critical_saddle = cp.saddle_count();
+    std::vector<double> sv;
+    for (const auto& s : cp.saddles) sv.push_back(f[s.first]);
+    std::sort(sv.begin(), sv.end());
+    std::vector<std::pair<double, double>> gaps;  // (width, level)
+    for (std::size_t i = 0; i + 1 < sv.size(); ++i) gaps.push_back({sv[i + 1] - sv[i], 0.5 * (sv[i] + sv[i + 1])});
+    std::sort(gaps.rbegin(), gaps.rend());
+    double level = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& [w, c] : gaps)
+      if (w > 1e-9 && has_ring_section(mesh, f, c)) {
+        level = c;
+        break;
+      }
+    if (std::isnan(level)) {
+      std::ostringstream s;
+      s << "split: no level set of the harmonic field between its saddles (" << cp.minima.size() << " min, "
+        << cp.maxima.size() << " max, " << cp.saddle_count()
+        << " saddles) is a cross section around the tube; set split.extreme_points (two points at opposite ends of the "
+           "ring) or split.cross_section_plane";
+      throw core::TopologyError(s.str());
+    }
+    for (const auto& l : insert_isoline(mesh, f, between_vertices(level, f, 0.0), opt))
+      if (A.empty() && !separates(mesh, l)) A = l;
+  }
+  apply_splits(sharp, splits);
+
+  // Step 4–5: circle-valued fields around the ring (u) and around the tube (v).
+  std::vector<double> u = periodic_harmonic_field(mesh, A);
+  // The loop around the ring that v is cut along: a closed sharp curve around the ring if there is
+  // one (it is a longitude by design), else the shortest loop once around the ring.
+  std::vector<int> Lr;
+  if (!sharp.empty())
+    for (const auto& loop : chain_loops(sharp))
+      if (Lr.empty() && std::abs(loop_period(loop, u)) == 1) Lr = loop;
+  if (Lr.empty()) Lr = shortest_ring_loop(mesh, A);
+  std::vector<double> v = periodic_harmonic_field(mesh, Lr);
+
+  // Closed sharp curves must run around the ring: they become longitudinal lines.
+  std::vector<Line> lines;
+  for (const auto& loop : sharp.empty() ? std::vector<std::vector<int>>{} : chain_loops(sharp)) {
+    const int pu = loop_period(loop, u), pv = loop_period(loop, v);
+    if (std::abs(pu) != 1 || pv != 0)
+      throw core::TopologyError("split: the closed sharp curve through vertex " + std::to_string(loop[0]) +
+                                " does not run once around the ring of the torus (it winds " + std::to_string(pu) + " time(s) around the ring and " +
+                                std::to_string(pv) + " around the tube); sharp curves across the tube are not supported yet — "
+                                "raise classify.sharp_angle_deg to ignore it, or use route: tet");
+    Line l;
+    l.sharp = true;
+    l.vertex = *std::min_element(loop.begin(), loop.end());
+    l.v = circular_mean(loop, v);
+    l.v_lo = l.v_hi = 0;
+    for (int x : loop) {
+      const double dv = circle_difference(l.v, v[x], 1.0);
+      l.v_lo = std::min(l.v_lo, dv), l.v_hi = std::max(l.v_hi, dv);
+    }
+    l.sharpness = sharpness(mesh, loop);
+    lines.push_back(l);
+  }
+  // Four corner lines: the sharpest sharp curves at least 1/8 turn apart, then new levels of v in
+  // the widest gaps.
+  std::vector<int> order(lines.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return lines[a].sharpness > lines[b].sharpness; });
+  int corners = 0;
+  for (int i : order) {
+    if (corners == 4) break;
+    bool far = true;
+    for (const auto& l : lines) far &= !(l.corner && circ_dist(l.v, lines[i].v) < 0.125);
+    if (far) lines[i].corner = true, ++corners;
+  }
+  while (corners < 4) {
+    if (lines.empty()) {
+      for (int k = 0; k < 4; ++k) lines.push_back({false, -1, 0.125 + 0.25 * k, 0, 0, 0, true});
+      break;
+    }
+    // Widest gap between consecutive lines (by their v extent), a new line at its middle.
+    std::sort(lines.begin(), lines.end(), [](const Line& a, const Line& b) { return a.v < b.v; });
+    double widest = -1, at = 0;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const Line& a = lines[i];
+      const Line& b = lines[(i + 1) % lines.size()];
+      const double start = a.v + a.v_hi, end = b.v + b.v_lo + (i + 1 == lines.size() ? 1.0 : 0.0);
+      if (end - start > widest) widest = end - start, at = 0.5 * (start + end);
+    }
+    lines.push_back({false, -1, at - std::floor(at), 0, 0, 0, true});
+    ++corners;
+  }
+  std::sort(lines.begin(), lines.end(), [](const Line& a, const Line& b) { return a.v < b.v; });
+
+  // Insert the cross sections (levels of u), then the new longitudes (levels of v).
+  const int n = prm.torus_cubes;
+  LabelledEdges cuts;
+  IsolineOptions ou = opt, ov = opt;
+  ou.period = ov.period = 1.0;
+  ou.carried = {{&v, 1.0}, {&f, 0.0}};
+  ov.carried = {{&u, 1.0}, {&f, 0.0}};
+  auto take = [&](std::vector<std::vector<int>> loops, const std::vector<double>& other, const std::string& what) {
+    std::vector<int> keep;
+    for (auto& l : loops)
+      if (std::abs(loop_period(l, other)) == 1 && keep.empty()) keep = std::move(l);
+      else
+        throw core::TopologyError("split: the " + what + " is not a single loop (" + std::to_string(loops.size()) +
+                                  " loops); the harmonic field has spurious critical points — set split.extreme_points or "
+                                  "split.cross_section_plane, or refine the mesh");
+    if (keep.empty()) throw core::TopologyError("split: the " + what + " does not run around the torus");
+    return keep;
+  };
+  for (int k = 0; k < n; ++k) {
+    splits.clear();
+    auto loops = insert_isoline(mesh, u, between_vertices((k + 0.5) / n, u, 1.0), ou);
+    apply_splits(sharp, splits);
+    apply_splits(cuts, splits);
+    const auto loop = take(std::move(loops), v, "cross section " + std::to_string(k));
+    add_loop(cuts, loop, k);
+  }
+  for (std::size_t j = 0; j < lines.size(); ++j) {
+    if (lines[j].sharp) continue;
+    splits.clear();
+    auto loops = insert_isoline(mesh, v, between_vertices(lines[j].v, v, 1.0), ov);
+    apply_splits(sharp, splits);
+    apply_splits(cuts, splits);
+    add_loop(cuts, take(std::move(loops), u, "longitudinal line " + std::to_string(j)), kLongitudeLabel + static_cast<int>(j));
+  }
+  if (!sharp.empty())
+    for (const auto& loop : chain_loops(sharp))
+      for (std::size_t j = 0; j < lines.size(); ++j)
+        if (lines[j].sharp && std::find(loop.begin(), loop.end(), lines[j].vertex) != loop.end())
+          add_loop(cuts, loop, kLongitudeLabel + static_cast<int>(j));
+
+  // Patches: regions between the cuts; corners where a cross section meets a longitudinal line.
+  const int nv = static_cast<int>(mesh.number_of_vertices());
+  std::vector<std::set<int>> labels_at(nv);
+  std::set<Edge> cut_set;
+  for (const auto& [e, label] : cuts) {
+    cut_set.insert(e);
+    labels_at[e.first].insert(label);
+    labels_at[e.second].insert(label);
+  }
+  std::vector<char> is_corner(nv, 0), is_cube_corner(nv, 0);
+  std::map<std::pair<int, int>, int> crossing;  // (cross section, line) -> vertex
+  for (int x = 0; x < nv; ++x) {
+    if (labels_at[x].size() < 2) continue;
+    is_corner[x] = 1;
+    int cs = -1, line = -1;
+    for (int l : labels_at[x]) (l >= kLongitudeLabel ? line : cs) = l;
+    if (labels_at[x].size() != 2 || cs < 0 || line < 0)
+      throw core::TopologyError("split: cuts of the torus meet at vertex " + std::to_string(x) + " other than a cross section crossing a longitudinal line");
+    line -= kLongitudeLabel;
+    if (!crossing.emplace(std::pair{cs, line}, x).second)
+      throw core::TopologyError("split: cross section " + std::to_string(cs) + " crosses longitudinal line " + std::to_string(line) +
+                                " more than once; the sharp curves are too wavy for the harmonic cross sections — set split.cross_section_plane or use route: tet");
+    if (lines[line].corner) is_cube_corner[x] = 1;
+  }
+  std::vector<int> face_region;
+  const auto regs = regions(mesh, cut_set, &face_region);
+  copy_mesh(mesh, d.layout);
+  const int m = static_cast<int>(lines.size());
+  std::vector<int> corner_lines;
+  for (int j = 0; j < m; ++j)
+    if (lines[j].corner) corner_lines.push_back(j);
+  d.components.resize(n);
+  d.tori.resize(1);
+  for (int k = 0; k < n; ++k) {
+    d.components[k].type = ComponentType::torus_cube;
+    d.components[k].torus = 0;
+    d.components[k].faces.resize(6);
+    d.tori[0].components.push_back(k);
+  }
+  for (std::size_t r = 0; r < regs.size(); ++r) {
+    Patch p = quad_patch(regs[r], is_corner, "torus patch", static_cast<int>(r));
+    std::set<int> cs, ln;
+    for (int s = 0; s < 4; ++s) {
+      const auto& side = p.sides[s];
+      const int label = cuts.at(edge(side[0], side[1]));
+      (label >= kLongitudeLabel ? ln : cs).insert(label >= kLongitudeLabel ? label - kLongitudeLabel : label);
+    }
+    if (cs.size() != 2 || ln.size() != 2) throw core::TopologyError("split: torus patch " + std::to_string(r) + " is not bounded by two cross sections and two longitudinal lines");
+    const int c0 = *cs.begin(), c1 = *cs.rbegin();
+    const int comp = (c1 == c0 + 1) ? c0 : (c0 == 0 && c1 == n - 1 ? n - 1 : -1);
+    const int l0 = *ln.begin(), l1 = *ln.rbegin();
+    const int line = (l1 == l0 + 1) ? l0 : (l0 == 0 && l1 == m - 1 ? m - 1 : -1);
+    if (comp < 0 || line < 0) throw core::TopologyError("split: torus patch " + std::to_string(r) + " spans non-adjacent cuts");
+    int face = 3;  // the interval of corner lines [corner_lines[i], corner_lines[i+1]) holding `line`
+    for (int i = 0; i < 4; ++i)
+      if (line >= corner_lines[i] && (i == 3 || line < corner_lines[i + 1])) face = i;
+    d.components[comp].faces[face].patches.push_back(static_cast<int>(r));
+    d.components[comp].patches.push_back(static_cast<int>(r));
+    d.layout.patches.push_back(std::move(p));
+  }
+  // Cross sections as internal faces: cross section k lies between components k-1 and k.
+  for (int k = 0; k < n; ++k) {
+    std::set<Edge> es;
+    for (const auto& [e, label] : cuts)
+      if (label == k) es.insert(e);
+    const auto loops = chain_loops(es);
+    d.layout.internal_faces.push_back(internal_face(loops.at(0), is_cube_corner, k));
+    d.cross_section_lines.push_back(loops.at(0));
+  }
+  for (int j = 0; j < m; ++j) {
+    std::set<Edge> es;
+    for (const auto& [e, label] : cuts)
+      if (label == kLongitudeLabel + j) es.insert(e);
+    d.longitude_lines.push_back(chain_loops(es).at(0));
+  }
+  auto at = [&](int cs, int line) {
+    const auto it = crossing.find({cs % n, line % m});
+    if (it == crossing.end())
+      throw core::TopologyError("split: cross section " + std::to_string(cs % n) + " does not cross longitudinal line " + std::to_string(line % m));
+    return it->second;
+  };
+  for (int k = 0; k < n; ++k) {
+    auto& comp = d.components[k];
+    for (int i = 0; i < 4; ++i) {
+      const int a = corner_lines[i], b = corner_lines[(i + 1) % 4];
+      comp.faces[i].corners = {at(k, a), at(k + 1, a), at(k + 1, b), at(k, b)};
+    }
+    comp.faces[4].internal_face = k;
+    comp.faces[4].corners = d.layout.internal_faces[k].corners;
+    comp.faces[5].internal_face = (k + 1) % n;
+    comp.faces[5].corners = d.layout.internal_faces[(k + 1) % n].corners;
+    std::sort(comp.patches.begin(), comp.patches.end());
+    d.tori[0].cross_sections.push_back((k + 1) % n);
+    d.contacts.push_back({k, (k + 1) % n, "internal_face", (k + 1) % n});
+  }
+  d.quad_patches = static_cast<int>(d.layout.patches.size());
+  d.field = f;
+  d.ring_field = u;
+  d.tube_field = v;
+  return d;
+}
+
+}  // namespace volts::split::detail

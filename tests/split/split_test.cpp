@@ -1,0 +1,263 @@
+// Decomposition into cube components (Liu et al. §4.1, §4.3): on every model, every patch is a disk
+// bounded by four sides, the patches cover the surface once (hole fills twice: once for the cube,
+// once for the virtual component), and every component is bounded like a cube — six faces whose
+// corners meet as a cube's do.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "classify/classify.h"
+#include "core/errors.h"
+#include "models/models.h"
+#include "split/split.h"
+
+using namespace volts;
+
+namespace {
+
+surface::Mesh shared(const std::string& f) { return surface::read_surface(std::string(VOLTS_SHARED_MODELS) + "/" + f); }
+
+surface::Mesh generated(const std::string& name, int resolution) {
+  models::ModelParams p;
+  p.name = name;
+  p.resolution = resolution;
+  return models::make_model(p);
+}
+
+split::Decomposition run_split(const surface::Mesh& m, const split::Params& p = {}) {
+  return split::split(m, classify::classify(m, {}), p);
+}
+
+using Edge = std::pair<int, int>;
+Edge edge(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
+
+// A set of triangles is a disk: V - E + F = 1 and its boundary edges form one loop. Returns the
+// boundary vertices.
+std::set<int> check_disk(const split::Layout& L, const std::vector<int>& tris, const std::string& what) {
+  std::map<Edge, int> count;
+  std::set<int> verts;
+  for (int t : tris)
+    for (int k = 0; k < 3; ++k) {
+      ++count[edge(L.triangles[t][k], L.triangles[t][(k + 1) % 3])];
+      verts.insert(L.triangles[t][k]);
+    }
+  EXPECT_EQ(static_cast<int>(verts.size()) - static_cast<int>(count.size()) + static_cast<int>(tris.size()), 1) << what << " is not a disk";
+  std::map<int, std::vector<int>> adj;
+  for (const auto& [e, n] : count) {
+    EXPECT_LE(n, 2) << what;
+    if (n == 1) adj[e.first].push_back(e.second), adj[e.second].push_back(e.first);
+  }
+  std::set<int> boundary;
+  for (const auto& [v, n] : adj) {
+    EXPECT_EQ(n.size(), 2u) << what << ": boundary is not a simple loop at vertex " << v;
+    boundary.insert(v);
+  }
+  // One loop: walk it.
+  if (!adj.empty()) {
+    int start = adj.begin()->first, prev = start, cur = adj.begin()->second[0];
+    std::size_t steps = 1;
+    while (cur != start && steps <= adj.size()) {
+      const auto& n = adj[cur];
+      const int next = n[0] == prev ? n[1] : n[0];
+      prev = cur, cur = next, ++steps;
+    }
+    EXPECT_EQ(steps, adj.size()) << what << " has more than one boundary loop";
+  }
+  return boundary;
+}
+
+// The properties every decomposition must have; returns the number of components.
+void check_decomposition(const split::Decomposition& d) {
+  const split::Layout& L = d.layout;
+  ASSERT_EQ(L.filled.size(), L.triangles.size());
+  std::set<Edge> mesh_edges;
+  for (const auto& t : L.triangles)
+    for (int k = 0; k < 3; ++k) mesh_edges.insert(edge(t[k], t[(k + 1) % 3]));
+  // Patches: disks with four corners joined by four sides along their boundary.
+  for (std::size_t p = 0; p < L.patches.size(); ++p) {
+    const auto& P = L.patches[p];
+    const auto boundary = check_disk(L, P.triangles, "patch " + std::to_string(p));
+    std::set<int> corners(P.corners.begin(), P.corners.end());
+    EXPECT_EQ(corners.size(), 4u);
+    std::size_t side_vertices = 0;
+    for (int k = 0; k < 4; ++k) {
+      const auto& s = P.sides[k];
+      ASSERT_GE(s.size(), 2u);
+      EXPECT_EQ(s.front(), P.corners[k]);
+      EXPECT_EQ(s.back(), P.corners[(k + 1) % 4]);
+      for (std::size_t i = 0; i + 1 < s.size(); ++i) EXPECT_TRUE(mesh_edges.count(edge(s[i], s[i + 1]))) << "side is not along edges";
+      for (int v : s) EXPECT_TRUE(boundary.count(v)) << "side vertex off the patch boundary";
+      side_vertices += s.size() - 1;
+    }
+    EXPECT_EQ(side_vertices, boundary.size()) << "the four sides do not make up the whole boundary of patch " << p;
+  }
+  // Coverage: input triangles in exactly one patch, fill triangles in exactly two.
+  std::vector<int> cover(L.triangles.size(), 0);
+  for (const auto& P : L.patches)
+    for (int t : P.triangles) ++cover[t];
+  for (std::size_t t = 0; t < cover.size(); ++t) EXPECT_EQ(cover[t], L.filled[t] ? 2 : 1) << "triangle " << t;
+  // Every patch in exactly one component.
+  std::vector<int> owner(L.patches.size(), 0);
+  for (const auto& c : d.components)
+    for (int p : c.patches) ++owner[p];
+  for (std::size_t p = 0; p < owner.size(); ++p) EXPECT_EQ(owner[p], 1) << "patch " << p;
+  // Internal faces: closed loops along edges through their four corners.
+  for (const auto& f : L.internal_faces) {
+    ASSERT_GE(f.loop.size(), 4u);
+    for (std::size_t i = 0; i < f.loop.size(); ++i) EXPECT_TRUE(mesh_edges.count(edge(f.loop[i], f.loop[(i + 1) % f.loop.size()])));
+    for (int c : f.corners) EXPECT_NE(std::find(f.loop.begin(), f.loop.end(), c), f.loop.end());
+  }
+  // Components: six faces meeting like a cube's.
+  for (std::size_t ci = 0; ci < d.components.size(); ++ci) {
+    const auto& c = d.components[ci];
+    ASSERT_EQ(c.faces.size(), 6u) << "component " << ci;
+    std::map<int, int> faces_at;
+    std::vector<int> patches;
+    for (const auto& f : c.faces) {
+      EXPECT_NE(f.patches.empty(), f.internal_face < 0) << "a face is either patches or one internal face";
+      for (int v : f.corners) ++faces_at[v];
+      if (!f.patches.empty()) {
+        std::vector<int> tris;
+        for (int p : f.patches) tris.insert(tris.end(), L.patches[p].triangles.begin(), L.patches[p].triangles.end()), patches.push_back(p);
+        const auto boundary = check_disk(L, tris, "face of component " + std::to_string(ci));
+        for (int v : f.corners) EXPECT_TRUE(boundary.count(v)) << "face corner off the face boundary";
+      }
+    }
+    EXPECT_EQ(faces_at.size(), 8u) << "component " << ci << " has not 8 corners";
+    for (const auto& [v, n] : faces_at) EXPECT_EQ(n, 3) << "corner " << v << " of component " << ci;
+    int adjacent = 0, opposite = 0;
+    for (int a = 0; a < 6; ++a)
+      for (int b = a + 1; b < 6; ++b) {
+        std::set<int> ca(c.faces[a].corners.begin(), c.faces[a].corners.end());
+        int shared_corners = 0;
+        for (int v : c.faces[b].corners) shared_corners += ca.count(v);
+        adjacent += shared_corners == 2, opposite += shared_corners == 0;
+      }
+    EXPECT_EQ(adjacent, 12) << "component " << ci;
+    EXPECT_EQ(opposite, 3) << "component " << ci;
+    std::sort(patches.begin(), patches.end());
+    EXPECT_EQ(patches, c.patches) << "the faces' patches are the component's patches";
+  }
+  EXPECT_EQ(d.quad_patches, static_cast<int>(L.patches.size()));
+}
+
+void check_torus(const split::Decomposition& d, int cubes) {
+  check_decomposition(d);
+  EXPECT_EQ(d.genus, 1);
+  ASSERT_EQ(d.tori.size(), 1u);
+  EXPECT_EQ(d.tori[0].components.size(), static_cast<std::size_t>(cubes));
+  EXPECT_EQ(d.tori[0].cross_sections.size(), static_cast<std::size_t>(cubes));
+  ASSERT_EQ(d.components.size(), static_cast<std::size_t>(cubes));
+  for (const auto& c : d.components) EXPECT_EQ(c.type, split::ComponentType::torus_cube);
+  // Neighbours in the ring share their cross section.
+  for (int k = 0; k < cubes; ++k) {
+    const int cs = d.tori[0].cross_sections[k];
+    auto has = [&](int comp) {
+      for (const auto& f : d.components[comp].faces)
+        if (f.internal_face == cs) return true;
+      return false;
+    };
+    EXPECT_TRUE(has(d.tori[0].components[k]));
+    EXPECT_TRUE(has(d.tori[0].components[(k + 1) % cubes]));
+  }
+  EXPECT_EQ(d.critical_saddle == 0 || d.critical_max - d.critical_saddle + d.critical_min == 0, true)
+      << "Morse counts of the first field on a torus";
+}
+
+}  // namespace
+
+TEST(Split, BoxIsOneCubeOfItsSixPatches) {
+  for (const char* name : {"box", "bulged-box"}) {
+    const auto d = run_split(generated(name, 8));
+    check_decomposition(d);
+    ASSERT_EQ(d.components.size(), 1u) << name;
+    EXPECT_EQ(d.components[0].type, split::ComponentType::cube);
+    EXPECT_EQ(d.layout.patches.size(), 6u);
+    EXPECT_EQ(d.genus, 0);
+  }
+}
+
+TEST(Split, GeneratedTorusIsARingOfFourCubes) {
+  for (int res : {12, 24}) {
+    const auto d = run_split(generated("torus", res));
+    check_torus(d, 4);
+    EXPECT_EQ(d.critical_min, 1);
+    EXPECT_EQ(d.critical_max, 1);
+    EXPECT_EQ(d.critical_saddle, 2);
+  }
+}
+
+TEST(Split, LongitudesOfATorusOfRevolutionDoNotTwist) {
+  // Generated torus: axis z, major radius 2. A longitudinal line keeps its angle around the tube
+  // (a twisted one would sweep all 360 degrees); a cross section keeps its angle around the axis.
+  const auto d = run_split(generated("torus", 16));
+  ASSERT_EQ(d.longitude_lines.size(), 4u);
+  auto spread = [](const std::vector<double>& angles) {
+    double lo = 1e9, hi = -1e9;
+    for (double a : angles) {
+      const double r = std::remainder(a - angles[0], 2 * 3.14159265358979);
+      lo = std::min(lo, r), hi = std::max(hi, r);
+    }
+    return (hi - lo) * 180 / 3.14159265358979;
+  };
+  for (const auto& line : d.longitude_lines) {
+    std::vector<double> phi;
+    for (int v : line) {
+      const auto& p = d.layout.points[v];
+      phi.push_back(std::atan2(p[2], std::hypot(p[0], p[1]) - 2.0));
+    }
+    EXPECT_LT(spread(phi), 20.0);
+  }
+  for (const auto& line : d.cross_section_lines) {
+    std::vector<double> theta;
+    for (int v : line) theta.push_back(std::atan2(d.layout.points[v][1], d.layout.points[v][0]));
+    EXPECT_LT(spread(theta), 20.0);
+  }
+}
+
+TEST(Split, CinolibTorusIsARingOfFourCubes) {
+  const auto d = run_split(shared("cinolib_torus.obj"));
+  check_torus(d, 4);
+}
+
+TEST(Split, TorusCubesPerRingFromTheConfig) {
+  split::Params p;
+  p.torus_cubes = 6;
+  check_torus(run_split(generated("torus", 16), p), 6);
+}
+
+TEST(Split, WasherWithSmoothRimsIsATorusAlongItsSharpCurves) {
+  const auto m = shared("loopycuts_mechanical08_rem.obj");
+  const auto c = classify::classify(m, {});
+  const auto d = split::split(m, c, {});
+  check_torus(d, 4);
+  // Every sharp curve is a longitudinal line: none of its edges is crossed by a patch interior.
+  EXPECT_EQ(d.longitude_lines.size(), c.curves.size());
+}
+
+TEST(Split, ExtremePointsOnOneVertexAreAClearError) {
+  split::Params p;
+  p.extreme_points = {{2.75, 0, 0}, {2.75, 0, 0}};
+  try {
+    run_split(generated("torus", 12), p);
+    FAIL() << "no error";
+  } catch (const core::TopologyError& e) {
+    EXPECT_NE(std::string(e.what()).find("split.extreme_points"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Split, CrossSectionFromAPlane) {
+  split::Params p;
+  p.cross_section_plane = {0, 0, 0, 1, 0, 0};  // x = 0 crosses the generated torus's ring twice
+  check_torus(run_split(generated("torus", 12), p), 4);
+}
+
+TEST(Split, StageJsonRoundTrips) {
+  const auto d = run_split(generated("torus", 12));
+  const auto e = split::from_json(split::to_json(d), "x.json");
+  EXPECT_EQ(split::to_json(e), split::to_json(d));
+  check_torus(e, 4);
+}
