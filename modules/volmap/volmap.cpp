@@ -1,0 +1,373 @@
+// Liu et al. 2013 §4.3 volume map: TetGen tets, chord splitting, harmonic map, untangling.
+#include "volmap/volmap.h"
+
+#include <nlopt.hpp>
+
+#include <Eigen/Sparse>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+
+#include "core/errors.h"
+#include "core/log.h"
+
+namespace volts::volmap {
+namespace {
+
+using Vec = Eigen::Vector3d;
+using Tet = std::array<int, 4>;
+
+void check(const surface::Mesh& surface, const std::vector<std::array<double, 3>>& sp, const Params& p) {
+  if (p.laplacian != "cotangent" && p.laplacian != "uniform")
+    throw core::ConfigError("volmap laplacian must be \"cotangent\" or \"uniform\", not \"" + p.laplacian + "\"");
+  if (p.untangle_max_sweeps < 0 || p.untangle_max_sweeps > 100000)
+    throw core::ConfigError("volmap untangle_max_sweeps must be in [0, 100000]");
+  if (!(p.untangle_min_volume_rel >= 0 && p.untangle_min_volume_rel < 1))
+    throw core::ConfigError("volmap untangle_min_volume_rel must be in [0, 1)");
+  if (!p.tetgen.keep_boundary)
+    throw core::ConfigError("volmap needs tetgen keep_boundary = true: the boundary condition is given per surface vertex");
+  if (surface.has_garbage())
+    throw core::InvalidInputError("volmap: the surface has removed vertices or faces (collect_garbage first)");
+  if (sp.size() != surface.number_of_vertices())
+    throw core::InvalidInputError("volmap: surface_parameter has " + std::to_string(sp.size()) + " entries for " +
+                                  std::to_string(surface.number_of_vertices()) + " surface vertices");
+  for (std::size_t i = 0; i < sp.size(); ++i)
+    if (!(std::isfinite(sp[i][0]) && std::isfinite(sp[i][1]) && std::isfinite(sp[i][2])))
+      throw core::InvalidInputError("volmap: surface_parameter[" + std::to_string(i) + "] is not finite");
+}
+
+// Vertex -> incident tets, kept up to date by the splits.
+struct Incidence {
+  std::vector<std::vector<int>> of;
+  void add(int t, const Tet& tet) {
+    for (int v : tet) of[v].push_back(t);
+  }
+  void remove(int t, int v) { of[v].erase(std::find(of[v].begin(), of[v].end(), t)); }
+  std::vector<int> sharing(const std::vector<int>& vs) const {
+    std::vector<int> r = of[vs[0]];
+    std::sort(r.begin(), r.end());
+    for (std::size_t k = 1; k < vs.size(); ++k) {
+      std::vector<int> o = of[vs[k]], x;
+      std::sort(o.begin(), o.end());
+      std::set_intersection(r.begin(), r.end(), o.begin(), o.end(), std::back_inserter(x));
+      r.swap(x);
+    }
+    return r;
+  }
+};
+
+// Inserts point m on the simplex `vs` (an edge or a face): every tet containing it becomes one tet
+// per vertex of `vs`, with that vertex replaced by m (orientation kept: m lies on the simplex).
+void split_simplex(VolumeMap& vm, Incidence& inc, const std::vector<int>& vs, const Vec& m) {
+  const int mid = static_cast<int>(vm.physical.size());
+  vm.physical.push_back(m);
+  inc.of.emplace_back();
+  for (int t : inc.sharing(vs)) {
+    const Tet old = vm.tets[t];
+    for (std::size_t k = 0; k < vs.size(); ++k) {
+      Tet nt = old;
+      *std::find(nt.begin(), nt.end(), vs[k]) = mid;
+      if (k == 0) {
+        vm.tets[t] = nt;
+        inc.remove(t, vs[0]);
+        inc.of[mid].push_back(t);
+      } else {
+        vm.tets.push_back(nt);
+        inc.add(static_cast<int>(vm.tets.size()) - 1, nt);
+      }
+    }
+  }
+}
+
+// An interior edge or face whose vertices are all on the surface is a chord of the solid; in a
+// polycube it would run along a face or outside a concave edge, so its tets could not all stay
+// positive. Splitting gives each such simplex a free vertex.
+void split_chords(VolumeMap& vm, const surface::Mesh& surface) {
+  const int n = vm.surface_vertices;
+  std::set<std::pair<int, int>> surface_edges;
+  for (auto e : surface.edges()) {
+    int a = surface.vertex(e, 0), b = surface.vertex(e, 1);
+    surface_edges.insert({std::min(a, b), std::max(a, b)});
+  }
+  Incidence inc;
+  inc.of.resize(vm.physical.size());
+  for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t) inc.add(t, vm.tets[t]);
+
+  std::set<std::pair<int, int>> chords;
+  for (const Tet& t : vm.tets)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        const int a = std::min(t[i], t[j]), b = std::max(t[i], t[j]);
+        if (b < n && !surface_edges.count({a, b})) chords.insert({a, b});
+      }
+  for (const auto& [a, b] : chords) split_simplex(vm, inc, {a, b}, 0.5 * (vm.physical[a] + vm.physical[b]));
+  vm.split_edges = static_cast<int>(chords.size());
+
+  std::set<std::array<int, 3>> surface_faces;
+  for (auto f : surface.faces()) {
+    std::array<int, 3> k;
+    int m = 0;
+    for (auto v : vertices_around_face(surface.halfedge(f), surface)) k[m++] = v;
+    std::sort(k.begin(), k.end());
+    surface_faces.insert(k);
+  }
+  std::set<std::array<int, 3>> faces;
+  for (const Tet& t : vm.tets)
+    for (const auto& f : tetmesh::kOutwardFace) {
+      std::array<int, 3> k{t[f[0]], t[f[1]], t[f[2]]};
+      std::sort(k.begin(), k.end());
+      if (k[2] < n && !surface_faces.count(k)) faces.insert(k);
+    }
+  for (const auto& k : faces)
+    split_simplex(vm, inc, {k[0], k[1], k[2]}, (vm.physical[k[0]] + vm.physical[k[1]] + vm.physical[k[2]]) / 3.0);
+  vm.split_faces = static_cast<int>(faces.size());
+}
+
+// Harmonic map with the surface vertices fixed: K_II x_I = -K_IB x_B, K the Laplacian.
+void harmonic(VolumeMap& vm, const std::string& laplacian) {
+  const int np = static_cast<int>(vm.physical.size()), n = vm.surface_vertices, ni = np - n;
+  if (ni == 0) return;
+  std::vector<Eigen::Triplet<double>> trip;
+  if (laplacian == "cotangent") {
+    // P1 stiffness: K_ij = sum over tets of vol * grad(lambda_i) . grad(lambda_j) (the cotangent formula).
+    for (const Tet& t : vm.tets) {
+      Eigen::Matrix3d E;
+      for (int j = 0; j < 3; ++j) E.col(j) = vm.physical[t[j + 1]] - vm.physical[t[0]];
+      const double vol = E.determinant() / 6;
+      const Eigen::Matrix3d Ei = E.inverse();  // rows: gradients of lambda_1..3
+      Eigen::Matrix<double, 4, 3> G;
+      G.row(0) = -(Ei.row(0) + Ei.row(1) + Ei.row(2));
+      G.bottomRows(3) = Ei;
+      const Eigen::Matrix4d Kt = vol * G * G.transpose();
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b) trip.emplace_back(t[a], t[b], Kt(a, b));
+    }
+  } else {
+    std::set<std::pair<int, int>> edges;
+    for (const Tet& t : vm.tets)
+      for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b) edges.insert({std::min(t[a], t[b]), std::max(t[a], t[b])});
+    for (const auto& [a, b] : edges) {
+      trip.emplace_back(a, b, -1.0), trip.emplace_back(b, a, -1.0);
+      trip.emplace_back(a, a, 1.0), trip.emplace_back(b, b, 1.0);
+    }
+  }
+  Eigen::SparseMatrix<double> K(np, np);
+  K.setFromTriplets(trip.begin(), trip.end());
+  const Eigen::SparseMatrix<double> KII = K.bottomRightCorner(ni, ni), KIB = K.bottomLeftCorner(ni, n);
+  Eigen::MatrixXd xb(n, 3);
+  for (int i = 0; i < n; ++i) xb.row(i) = vm.parameter[i].transpose();
+  const Eigen::MatrixXd rhs = -(KIB * xb);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(KII);
+  if (solver.info() != Eigen::Success) throw core::NumericalError("volmap: the Laplacian could not be factorized");
+  const Eigen::MatrixXd x = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !x.allFinite()) throw core::NumericalError("volmap: the harmonic map solve failed");
+  for (int i = 0; i < ni; ++i) vm.parameter[n + i] = x.row(i).transpose();
+}
+
+double volume6(const std::vector<Vec>& p, const Tet& t) { return tetmesh::signed_volume6(p[t[0]], p[t[1]], p[t[2]], p[t[3]]); }
+
+// 6 × volume of tet t as a function of the position x of its local vertex j: g . x + h.
+void linear_volume(const std::vector<Vec>& p, const Tet& t, int j, Vec& g, double& h) {
+  const auto& f = tetmesh::kOutwardFace[j];
+  const Vec &a = p[t[f[0]]], &b = p[t[f[1]]], &c = p[t[f[2]]];
+  const Vec nout = (b - a).cross(c - a);  // outward for a positive tet: x on the inner side gives > 0
+  g = -nout;
+  h = nout.dot(a);
+}
+
+struct LpData {
+  std::vector<Vec> b;  // scaled gradients
+  std::vector<double> a;
+};
+
+// Constraints t - a_k - b_k . y <= 0 for the unknowns (y, t).
+void lp_constraints(unsigned m, double* result, unsigned nv, const double* x, double* grad, void* data) {
+  const auto* d = static_cast<const LpData*>(data);
+  for (unsigned k = 0; k < m; ++k) {
+    result[k] = x[3] - d->a[k] - d->b[k].dot(Vec(x[0], x[1], x[2]));
+    if (grad) {
+      for (int i = 0; i < 3; ++i) grad[k * nv + i] = -d->b[k][i];
+      grad[k * nv + 3] = 1.0;
+    }
+  }
+}
+
+double lp_objective(unsigned, const double* x, double* grad, void*) {
+  if (grad) grad[0] = grad[1] = grad[2] = 0, grad[3] = -1;
+  return -x[3];
+}
+
+// Moves free vertex v to maximize the smallest 6×volume of its tets (parameter space); returns
+// whether it moved (only if that smallest volume grows).
+bool optimize_vertex(VolumeMap& vm, const std::vector<int>& tets_of_v, const std::vector<std::vector<int>>& nbrs, int v) {
+  auto& p = vm.parameter;
+  const Vec x0 = p[v];
+  double scale = 0;
+  Vec lo = x0, hi = x0;
+  for (int u : nbrs[v]) {
+    scale += (p[u] - x0).norm();
+    lo = lo.cwiseMin(p[u]), hi = hi.cwiseMax(p[u]);
+  }
+  scale /= std::max<std::size_t>(1, nbrs[v].size());
+  if (!(scale > 0)) return false;
+  LpData d;
+  double m0 = HUGE_VAL;
+  for (int t : tets_of_v) {
+    const Tet& tet = vm.tets[t];
+    const int j = static_cast<int>(std::find(tet.begin(), tet.end(), v) - tet.begin());
+    Vec g;
+    double h;
+    linear_volume(p, tet, j, g, h);
+    const double v0 = g.dot(x0) + h;
+    m0 = std::min(m0, v0);
+    d.a.push_back(v0 / (scale * scale * scale));
+    d.b.push_back(g / (scale * scale));
+  }
+  const unsigned m = static_cast<unsigned>(d.a.size());
+  nlopt::opt opt(nlopt::LD_SLSQP, 4);
+  std::vector<double> lb(4), ub(4);
+  for (int i = 0; i < 3; ++i) lb[i] = (lo[i] - x0[i]) / scale, ub[i] = (hi[i] - x0[i]) / scale;
+  const double t0 = m0 / (scale * scale * scale);
+  lb[3] = t0 - 1, ub[3] = HUGE_VAL;
+  opt.set_lower_bounds(lb);
+  opt.set_upper_bounds(ub);
+  opt.set_min_objective(lp_objective, nullptr);
+  opt.add_inequality_mconstraint(lp_constraints, &d, std::vector<double>(m, 1e-14));
+  opt.set_xtol_abs(1e-10);
+  opt.set_maxeval(200);
+  std::vector<double> y{0, 0, 0, t0};
+  double f = 0;
+  try {
+    opt.optimize(y, f);
+  } catch (const std::exception&) {
+    // Round-off or iteration limits: y still holds the last iterate, judged below like any other.
+  }
+  const Vec x1 = x0 + scale * Vec(y[0], y[1], y[2]);
+  if (!x1.allFinite()) return false;
+  p[v] = x1;
+  double m1 = HUGE_VAL;
+  for (int t : tets_of_v) m1 = std::min(m1, volume6(p, vm.tets[t]));
+  if (m1 > m0) return true;
+  p[v] = x0;
+  return false;
+}
+
+void untangle(VolumeMap& vm, const Params& params) {
+  const int np = static_cast<int>(vm.parameter.size()), n = vm.surface_vertices;
+  const int nt = static_cast<int>(vm.tets.size());
+  std::vector<std::vector<int>> tets_of(np), nbrs(np);
+  for (int t = 0; t < nt; ++t)
+    for (int a = 0; a < 4; ++a) {
+      tets_of[vm.tets[t][a]].push_back(t);
+      for (int b = 0; b < 4; ++b)
+        if (a != b) nbrs[vm.tets[t][a]].push_back(vm.tets[t][b]);
+    }
+  for (auto& l : nbrs) {
+    std::sort(l.begin(), l.end());
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+  }
+  // 6 × target volume; the total parameter volume does not change when interior points move.
+  const double target6 = params.untangle_min_volume_rel * 6 * vm.parameter_volume / nt;
+  const auto bad_tets = [&] {
+    std::vector<int> b;
+    for (int t = 0; t < nt; ++t)
+      if (!(volume6(vm.parameter, vm.tets[t]) > target6)) b.push_back(t);
+    return b;
+  };
+  std::vector<int> bad = bad_tets();
+  int stalled = 0;
+  int ring = 0;  // grown when a sweep makes no progress: a tangle may need its neighbours to move
+  double worst = HUGE_VAL;
+  for (int t : bad) worst = std::min(worst, volume6(vm.parameter, vm.tets[t]));
+  for (int sweep = 0; sweep < params.untangle_max_sweeps && !bad.empty(); ++sweep) {
+    std::set<int> active;
+    for (int t : bad)
+      for (int v : vm.tets[t])
+        if (v >= n) active.insert(v);
+    for (int r = 0; r < ring; ++r) {
+      std::set<int> grown = active;
+      for (int v : active)
+        for (int u : nbrs[v])
+          if (u >= n) grown.insert(u);
+      active.swap(grown);
+    }
+    for (int v : active) vm.untangle_moves += optimize_vertex(vm, tets_of[v], nbrs, v);
+    vm.untangle_sweeps = sweep + 1;
+    const std::vector<int> now = bad_tets();
+    double w = HUGE_VAL;
+    for (int t : now) w = std::min(w, volume6(vm.parameter, vm.tets[t]));
+    const bool progress = now.size() < bad.size() || w > worst + 1e-6 * std::abs(worst);
+    ring = progress ? 0 : std::min(ring + 1, 6);
+    stalled = progress ? 0 : stalled + 1;
+    bad = now;
+    worst = w;
+    if (stalled > 12) break;  // the largest neighbourhood has not helped for several sweeps
+  }
+}
+
+}  // namespace
+
+double parameter_volume(const VolumeMap& map, int t) { return volume6(map.parameter, map.tets[t]) / 6; }
+
+VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<std::array<double, 3>>& sp, const Params& params) {
+  check(surface, sp, params);
+  VolumeMap vm;
+  vm.surface_vertices = static_cast<int>(surface.number_of_vertices());
+  const int n = vm.surface_vertices;
+  // Orientation of the boundary condition: the mapped surface must enclose a positive volume.
+  double vol6 = 0;
+  for (auto f : surface.faces()) {
+    std::array<Vec, 3> q;
+    int k = 0;
+    for (auto v : vertices_around_face(surface.halfedge(f), surface)) {
+      const auto& s = sp[static_cast<int>(v)];
+      q[k++] = Vec(s[0], s[1], s[2]);
+    }
+    vol6 += q[0].dot(q[1].cross(q[2]));
+  }
+  if (!(vol6 > 0))
+    throw core::InvalidInputError("volmap: surface_parameter maps the surface onto a region of volume " +
+                                  std::to_string(vol6 / 6) + " (must be > 0: mirrored or collapsed?)");
+  vm.parameter_volume = vol6 / 6;
+  {
+    core::LogSection s("tetrahedralize (TetGen)");
+    tetmesh::TetMesh tm = tetmesh::tetrahedralize(surface, params.tetgen);
+    for (const auto& bf : tetmesh::boundary_faces(tm))
+      for (int j : tetmesh::kOutwardFace[bf[1]])
+        if (tm.tets[bf[0]][j] >= n) throw core::NumericalError("volmap: TetGen put a Steiner point on the surface");
+    vm.physical = std::move(tm.points);
+    vm.tets = std::move(tm.tets);
+    split_chords(vm, surface);
+  }
+  vm.parameter.assign(vm.physical.size(), Vec::Zero());
+  for (int i = 0; i < n; ++i) vm.parameter[i] = Vec(sp[i][0], sp[i][1], sp[i][2]);
+  {
+    core::LogSection s("harmonic map");
+    harmonic(vm, params.laplacian);
+  }
+  const auto flipped = [&] {
+    int c = 0;
+    for (const Tet& t : vm.tets) c += !(volume6(vm.parameter, t) > 0);
+    return c;
+  };
+  vm.flipped_tets_before_untangling = flipped();
+  {
+    core::LogSection s("untangle");
+    untangle(vm, params);
+  }
+  vm.flipped_tets = flipped();
+  double phys = 0;
+  for (const Tet& t : vm.tets) phys += volume6(vm.physical, t) / 6;
+  vm.min_volume_ratio = HUGE_VAL;
+  for (const Tet& t : vm.tets)
+    vm.min_volume_ratio = std::min(vm.min_volume_ratio, (volume6(vm.parameter, t) / volume6(vm.physical, t)) * (phys / vm.parameter_volume));
+  core::log_verbose("volmap: " + std::to_string(vm.tets.size()) + " tets, " + std::to_string(vm.flipped_tets_before_untangling) +
+                    " flipped by the harmonic map, " + std::to_string(vm.flipped_tets) + " after untangling");
+  return vm;
+}
+
+}  // namespace volts::volmap
