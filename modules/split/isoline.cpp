@@ -127,6 +127,7 @@ std::vector<std::vector<int>> insert_isoline(Mesh& mesh, std::vector<double>& f,
     set_mask(mesh.face(mesh.opposite(hn)), m);
   }
   mask.resize(mesh.number_of_faces(), 0);
+  if (o.face_mask) *o.face_mask = mask;
 
   // 3. Level edges (inside the mask) and their loops or chains.
   std::map<int, std::vector<int>> adj;

@@ -23,7 +23,7 @@ struct IsolineOptions {
   double snap = 1e-6;    ///< vertices closer than snap × (field range) to the level are put on it [relative]
   double period = 0;     ///< > 0: the field is circle-valued with this period (see CarriedField)
   std::vector<CarriedField> carried;       ///< other fields to extend to new vertices
-  const std::vector<char>* face_mask = nullptr;  ///< if set: only faces with mask 1 are cut (extended to new faces)
+  std::vector<char>* face_mask = nullptr;  ///< if set: only faces with mask 1 are cut; updated for the new faces
   std::vector<std::array<int, 3>>* splits = nullptr;  ///< if set: receives (a, b, new vertex) per split edge
 };
 

@@ -261,3 +261,47 @@ TEST(Split, StageJsonRoundTrips) {
   EXPECT_EQ(split::to_json(e), split::to_json(d));
   check_torus(e, 4);
 }
+
+namespace {
+
+void check_difference(const split::Decomposition& d) {
+  check_decomposition(d);
+  ASSERT_EQ(d.components.size(), 2u);
+  EXPECT_EQ(d.components[0].type, split::ComponentType::cube);
+  EXPECT_EQ(d.components[1].type, split::ComponentType::virtual_component);
+  EXPECT_TRUE(d.tori.empty());
+  const auto filled = std::count(d.layout.filled.begin(), d.layout.filled.end(), 1);
+  EXPECT_GT(filled, 0);
+  // Two of the virtual component's faces are the fills (its contacts with the cube).
+  EXPECT_EQ(d.contacts.size(), 2u);
+  for (const auto& c : d.contacts) {
+    EXPECT_EQ(c.via, "filled_patch");
+    for (int t : d.layout.patches[c.index].triangles) EXPECT_EQ(d.layout.filled[t], 1);
+  }
+}
+
+}  // namespace
+
+TEST(Split, SquareRingWithSharpRimsIsACubeMinusAVirtualCube) {
+  const auto d = run_split(shared("vhacd_tube1.off"));
+  check_difference(d);
+  EXPECT_EQ(d.genus, 1);
+}
+
+TEST(Split, CubeWithHoleIsACubeMinusAVirtualCylinder) {
+  for (int res : {16, 32}) {
+    const auto d = run_split(generated("cube-with-hole", res));
+    check_difference(d);
+  }
+}
+
+TEST(Split, HoleForcedToTorusWithCornersIsAClearError) {
+  split::Params p;
+  p.hole = "torus";
+  try {
+    run_split(shared("vhacd_tube1.off"), p);
+    FAIL() << "no error";
+  } catch (const core::TopologyError& e) {
+    EXPECT_NE(std::string(e.what()).find("split.hole"), std::string::npos) << e.what();
+  }
+}
