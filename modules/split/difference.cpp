@@ -5,8 +5,6 @@
 // prism) keeps them as its cube edges; a smooth wall (a cylinder) is cut by four lines at constant
 // angle around the hole's axis, at the angles of the holed face's corners, so the virtual cube's
 // faces face the outer cube's.
-#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
-
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -22,53 +20,10 @@ namespace volts::split::detail {
 
 using surface::Mesh;
 using VI = Mesh::Vertex_index;
-namespace PMP = CGAL::Polygon_mesh_processing;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// A closed surface made of some layout triangles (optionally reversed), with compact ids.
-struct Submesh {
-  Mesh mesh;
-  std::vector<int> layout_vertex;    // submesh vertex -> layout vertex
-  std::vector<int> layout_triangle;  // submesh face -> layout triangle
-};
-
-Submesh submesh(const Layout& L, const std::vector<int>& triangles, const std::vector<char>& reversed) {
-  Submesh s;
-  std::map<int, VI> vmap;
-  auto vertex = [&](int v) {
-    auto it = vmap.find(v);
-    if (it != vmap.end()) return it->second;
-    const auto& p = L.points[v];
-    const VI x = s.mesh.add_vertex(surface::Point(p[0], p[1], p[2]));
-    s.layout_vertex.push_back(v);
-    return vmap[v] = x;
-  };
-  for (std::size_t i = 0; i < triangles.size(); ++i) {
-    auto t = L.triangles[triangles[i]];
-    if (reversed[i]) std::swap(t[1], t[2]);
-    if (s.mesh.add_face(vertex(t[0]), vertex(t[1]), vertex(t[2])) == Mesh::null_face())
-      throw core::TopologyError("split: the filled surface is not manifold at triangle " + std::to_string(triangles[i]));
-    s.layout_triangle.push_back(triangles[i]);
-  }
-  return s;
-}
-
-// A decomposition of a submesh mapped to layout ids.
-void map_ids(Decomposition& sub, const Submesh& s) {
-  for (auto& p : sub.layout.patches) {
-    for (int& t : p.triangles) t = s.layout_triangle[t];
-    std::sort(p.triangles.begin(), p.triangles.end());
-    for (int& v : p.corners) v = s.layout_vertex[v];
-    for (auto& side : p.sides)
-      for (int& v : side) v = s.layout_vertex[v];
-  }
-  for (auto& c : sub.components)
-    for (auto& f : c.faces)
-      for (int& v : f.corners) v = s.layout_vertex[v];
-}
 
 }  // namespace
 
@@ -177,38 +132,8 @@ Decomposition split_difference(const Mesh& input, const classify::Classification
   std::vector<int> outer_tris, wall_tris;
   for (std::size_t f = 0; f < wall.size(); ++f) (wall[f] ? wall_tris : outer_tris).push_back(static_cast<int>(f));
   Submesh outer = submesh(d.layout, outer_tris, std::vector<char>(outer_tris.size(), 0));
-  std::vector<Mesh::Halfedge_index> borders;
-  std::set<std::size_t> seen;
-  for (auto h : outer.mesh.halfedges()) {
-    if (!outer.mesh.is_border(h) || seen.count(static_cast<std::size_t>(h))) continue;
-    borders.push_back(h);
-    for (auto g : CGAL::halfedges_around_face(h, outer.mesh)) seen.insert(static_cast<std::size_t>(g));
-  }
-  if (borders.size() != 2) throw core::TopologyError("split: removing the hole's walls leaves " + std::to_string(borders.size()) + " openings instead of 2");
-  const std::size_t old_vertices = outer.mesh.number_of_vertices(), old_faces = outer.mesh.number_of_faces();
-  for (auto h : borders) {
-    std::vector<Mesh::Face_index> faces;
-    std::vector<VI> verts;
-    PMP::triangulate_and_refine_hole(outer.mesh, h, std::back_inserter(faces), std::back_inserter(verts));
-  }
-  if (outer.mesh.has_garbage()) throw std::logic_error("split: hole filling removed elements");
-  // New vertices and faces come after the old ones.
-  for (std::size_t v = old_vertices; v < outer.mesh.number_of_vertices(); ++v) {
-    const auto& p = outer.mesh.point(VI(static_cast<Mesh::size_type>(v)));
-    outer.layout_vertex.push_back(static_cast<int>(d.layout.points.size()));
-    d.layout.points.push_back({p.x(), p.y(), p.z()});
-  }
-  std::vector<int> fill_tris;
-  for (std::size_t f = old_faces; f < outer.mesh.number_of_faces(); ++f) {
-    std::array<int, 3> t{};
-    int k = 0;
-    const Mesh::Face_index fi(static_cast<Mesh::size_type>(f));
-    for (VI v : CGAL::vertices_around_face(outer.mesh.halfedge(fi), outer.mesh)) t[k++] = outer.layout_vertex[v];
-    outer.layout_triangle.push_back(static_cast<int>(d.layout.triangles.size()));
-    fill_tris.push_back(static_cast<int>(d.layout.triangles.size()));
-    d.layout.triangles.push_back(t);
-    d.layout.filled.push_back(1);
-  }
+  const std::vector<int> fill_tris = fill_openings(outer, d.layout);
+  if (fill_tris.empty()) throw core::TopologyError("split: removing the hole's walls leaves no opening");
 
   // The cube: the filled outer surface, its patches from its own sharp curves.
   const classify::Classification co = classify::classify(outer.mesh, {});

@@ -1,6 +1,9 @@
 #include "split/layout.h"
 
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <stdexcept>
 
@@ -192,6 +195,76 @@ void copy_mesh(const Mesh& mesh, Layout& layout) {
     layout.triangles.push_back(t);
   }
   layout.filled.assign(layout.triangles.size(), 0);
+}
+
+Submesh submesh(const Layout& L, const std::vector<int>& triangles, const std::vector<char>& reversed) {
+  Submesh s;
+  std::map<int, Mesh::Vertex_index> vmap;
+  auto vertex = [&](int v) {
+    auto it = vmap.find(v);
+    if (it != vmap.end()) return it->second;
+    const auto& p = L.points[v];
+    const auto x = s.mesh.add_vertex(surface::Point(p[0], p[1], p[2]));
+    s.layout_vertex.push_back(v);
+    return vmap[v] = x;
+  };
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    auto t = L.triangles[triangles[i]];
+    if (reversed[i]) std::swap(t[1], t[2]);
+    if (s.mesh.add_face(vertex(t[0]), vertex(t[1]), vertex(t[2])) == Mesh::null_face())
+      throw core::TopologyError("split: the filled surface is not manifold at triangle " + std::to_string(triangles[i]));
+    s.layout_triangle.push_back(triangles[i]);
+  }
+  return s;
+}
+
+void map_ids(Decomposition& sub, const Submesh& s) {
+  for (auto& p : sub.layout.patches) {
+    for (int& t : p.triangles) t = s.layout_triangle[t];
+    std::sort(p.triangles.begin(), p.triangles.end());
+    for (int& v : p.corners) v = s.layout_vertex[v];
+    for (auto& side : p.sides)
+      for (int& v : side) v = s.layout_vertex[v];
+  }
+  for (auto& c : sub.components)
+    for (auto& f : c.faces)
+      for (int& v : f.corners) v = s.layout_vertex[v];
+}
+
+std::vector<int> fill_openings(Submesh& s, Layout& L) {
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  std::vector<HI> borders;
+  std::set<std::size_t> seen;
+  for (auto h : s.mesh.halfedges()) {
+    if (!s.mesh.is_border(h) || seen.count(static_cast<std::size_t>(h))) continue;
+    borders.push_back(h);
+    for (auto g : CGAL::halfedges_around_face(h, s.mesh)) seen.insert(static_cast<std::size_t>(g));
+  }
+  const std::size_t old_vertices = s.mesh.number_of_vertices(), old_faces = s.mesh.number_of_faces();
+  for (auto h : borders) {
+    std::vector<Mesh::Face_index> faces;
+    std::vector<Mesh::Vertex_index> verts;
+    PMP::triangulate_and_refine_hole(s.mesh, h, std::back_inserter(faces), std::back_inserter(verts));
+  }
+  if (s.mesh.has_garbage()) throw std::logic_error("split: hole filling removed elements");
+  // New vertices and faces come after the old ones.
+  for (std::size_t v = old_vertices; v < s.mesh.number_of_vertices(); ++v) {
+    const auto& p = s.mesh.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(v)));
+    s.layout_vertex.push_back(static_cast<int>(L.points.size()));
+    L.points.push_back({p.x(), p.y(), p.z()});
+  }
+  std::vector<int> fill;
+  for (std::size_t f = old_faces; f < s.mesh.number_of_faces(); ++f) {
+    std::array<int, 3> t{};
+    int k = 0;
+    const Mesh::Face_index fi(static_cast<Mesh::size_type>(f));
+    for (auto v : CGAL::vertices_around_face(s.mesh.halfedge(fi), s.mesh)) t[k++] = s.layout_vertex[v];
+    s.layout_triangle.push_back(static_cast<int>(L.triangles.size()));
+    fill.push_back(static_cast<int>(L.triangles.size()));
+    L.triangles.push_back(t);
+    L.filled.push_back(1);
+  }
+  return fill;
 }
 
 }  // namespace volts::split::detail

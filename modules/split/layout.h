@@ -58,4 +58,21 @@ InternalFace internal_face(const std::vector<int>& loop, const std::vector<char>
 /// Layout points and triangles of a mesh without removed elements (face index = triangle id).
 void copy_mesh(const surface::Mesh& mesh, Layout& layout);
 
+/// A closed surface made of some layout triangles (optionally reversed), with compact ids.
+struct Submesh {
+  surface::Mesh mesh;
+  std::vector<int> layout_vertex;    ///< submesh vertex -> layout vertex
+  std::vector<int> layout_triangle;  ///< submesh face -> layout triangle
+};
+/// Throws core::TopologyError if the triangles are not a manifold surface.
+Submesh submesh(const Layout& layout, const std::vector<int>& triangles, const std::vector<char>& reversed);
+
+/// Maps the patch and component ids of a decomposition of a submesh to layout ids.
+void map_ids(Decomposition& sub, const Submesh& s);
+
+/// Fills every opening (border loop) of the submesh with triangles (CGAL's hole filling with
+/// refinement), appends the new vertices and triangles to the layout (flagged filled) and to the
+/// submesh's maps. Returns the new layout triangles.
+std::vector<int> fill_openings(Submesh& s, Layout& layout);
+
 }  // namespace volts::split::detail

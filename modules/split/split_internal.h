@@ -3,8 +3,10 @@
 
 #include <array>
 #include <set>
+#include <utility>
 #include <vector>
 
+#include "split/harmonic.h"
 #include "split/layout.h"
 #include "split/split.h"
 
@@ -16,9 +18,29 @@ std::set<Edge> sharp_edges(const classify::Classification& c);
 /// The vertex nearest to a point (smallest index on ties).
 int nearest_vertex(const surface::Mesh& mesh, const std::array<double, 3>& p);
 
+/// The first harmonic field of §4.1 (steps 1–2): 0 and 1 at the extreme points (params or the
+/// principal axis), and its critical points. Throws core::TopologyError if both are one vertex.
+std::vector<double> height_field(const surface::Mesh& mesh, const Params& params, CriticalPoints* cp);
+
+/// (width, middle) of the gaps between consecutive saddle values, widest first.
+std::vector<std::pair<double, double>> saddle_gaps(const std::vector<double>& f, const CriticalPoints& cp);
+
+/// Whether a vertex loop cuts the surface in two.
+bool loop_separates(const surface::Mesh& mesh, const std::vector<int>& loop);
+
+/// A level near c halfway between two vertex values of f (no vertex on the level set).
+double level_between_vertices(double c, const std::vector<double>& f);
+
 /// A genus-1 surface without sharp corners as a ring of params.torus_cubes cube components.
-/// `sharp` are the sharp edges of `mesh` to keep as cuts (closed curves around the ring).
-Decomposition split_torus(const surface::Mesh& mesh, const std::set<Edge>& sharp, const Params& params);
+/// `sharp` are the sharp edges of `mesh` to keep as cuts (closed curves around the ring). No cut
+/// crosses a face all of whose vertices are in `protect` (the disk where two tori meet): the
+/// cross sections and longitudinal lines are spread over the rest of the ring and the tube.
+/// `first_cross_section`, if given, is a loop around the tube used instead of §4.1 steps 1–3.
+Decomposition split_torus(const surface::Mesh& mesh, const std::set<Edge>& sharp, const Params& params,
+                          const std::vector<int>& protect = {}, const std::vector<int>& first_cross_section = {});
+
+/// A genus-2 surface as two tori that meet on a disk filling their separating loop.
+Decomposition split_two_tori(const surface::Mesh& mesh, const Params& params);
 
 /// A genus-1 surface with sharp corners whose through hole is bounded by difference curves: a
 /// cube minus a virtual component.

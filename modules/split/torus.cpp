@@ -162,6 +162,27 @@ struct Line {
 
 double circ_dist(double a, double b) { return std::abs(circle_difference(a, b, 1.0)); }
 
+// Level k of n equally spaced levels of a periodic field (period 1), starting at `first`; with
+// protected vertices, the levels are spread over the rest of the circle so that none crosses the
+// arc their values cover (plus a margin), which then lies between level n-1 and level 0.
+double level_avoiding(const std::vector<int>& protect, const std::vector<double>& f, int k, int n, double first) {
+  if (protect.empty()) return first + static_cast<double>(k) / n;
+  std::vector<int> vs = protect;
+  const double m = circular_mean(vs, f);
+  double lo = 0, hi = 0;
+  for (int v : vs) {
+    const double d = circle_difference(m, f[v], 1.0);
+    lo = std::min(lo, d), hi = std::max(hi, d);
+  }
+  const double free_arc = 1.0 - (hi - lo);
+  if (free_arc < 0.1 * n / 4.0)
+    throw core::TopologyError("split: the disk where the two tori meet spans " + std::to_string(static_cast<int>(100 * (1 - free_arc))) +
+                              "% of a torus's turn; it must fit between two cuts — set split.extreme_points");
+  const double margin = 0.1 * free_arc / n;
+  double level = m + hi + margin + k * (free_arc - 2 * margin) / (n - 1);
+  return level - std::floor(level);
+}
+
 // The level nearest to c halfway between two consecutive vertex values, so that no vertex lies on
 // the level set (a level through vertices makes slivers, or whole triangles on the level, on
 // symmetric meshes).
@@ -190,7 +211,46 @@ double between_vertices(double c, const std::vector<double>& f, double period) {
 
 }  // namespace
 
-Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, const Params& prm) {
+std::vector<double> height_field(const Mesh& mesh, const Params& prm, CriticalPoints* cp) {
+  int lo = -1, hi = -1;
+  if (!prm.extreme_points.empty()) {
+    if (prm.extreme_points.size() != 2) throw core::ConfigError("split.extreme_points must be two points [[x,y,z], [x,y,z]]");
+    lo = nearest_vertex(mesh, prm.extreme_points[0]);
+    hi = nearest_vertex(mesh, prm.extreme_points[1]);
+  } else {
+    const Eigen::Vector3d axis = principal_axis(mesh);
+    double flo = std::numeric_limits<double>::infinity(), fhi = -flo;
+    for (auto v : mesh.vertices()) {
+      const double h = pt(mesh, static_cast<int>(v)).dot(axis);
+      if (h < flo) flo = h, lo = static_cast<int>(v);
+      if (h > fhi) fhi = h, hi = static_cast<int>(v);
+    }
+  }
+  if (lo == hi)
+    throw core::TopologyError("split: the min and max of the harmonic field fall on the same vertex " + std::to_string(lo) +
+                              "; set split.extreme_points to two distinct points");
+  std::vector<double> f = harmonic_field(mesh, {{lo, 0.0}, {hi, 1.0}});
+  *cp = critical_points(mesh, f);
+  return f;
+}
+
+std::vector<std::pair<double, double>> saddle_gaps(const std::vector<double>& f, const CriticalPoints& cp) {
+  std::vector<double> sv;
+  for (const auto& s : cp.saddles) sv.push_back(f[s.first]);
+  std::sort(sv.begin(), sv.end());
+  std::vector<std::pair<double, double>> gaps;
+  for (std::size_t i = 0; i + 1 < sv.size(); ++i)
+    if (sv[i + 1] - sv[i] > 1e-9) gaps.push_back({sv[i + 1] - sv[i], 0.5 * (sv[i] + sv[i + 1])});
+  std::sort(gaps.rbegin(), gaps.rend());
+  return gaps;
+}
+
+bool loop_separates(const Mesh& m, const std::vector<int>& loop) { return separates(m, loop); }
+
+double level_between_vertices(double c, const std::vector<double>& f) { return between_vertices(c, f, 0.0); }
+
+Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, const Params& prm, const std::vector<int>& protect,
+                          const std::vector<int>& first_cross_section) {
   if (prm.torus_cubes < 4 || prm.torus_cubes > 16) throw core::ConfigError("split.torus_cubes must be in [4, 16]");
   Mesh mesh = input;
   std::set<Edge> sharp = sharp_in;
@@ -203,7 +263,10 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
   std::vector<std::array<int, 3>> splits;
   IsolineOptions opt;
   opt.splits = &splits;
-  if (!prm.cross_section_plane.empty()) {
+  if (!first_cross_section.empty()) {
+    A = first_cross_section;
+    f.assign(mesh.number_of_vertices(), 0.0);
+  } else if (!prm.cross_section_plane.empty()) {
     const auto& q = prm.cross_section_plane;
     if (q.size() != 6) throw core::ConfigError("split.cross_section_plane must be [px, py, pz, nx, ny, nz]");
     const Eigen::Vector3d p0(q[0], q[1], q[2]), n = Eigen::Vector3d(q[3], q[4], q[5]).normalized();
@@ -220,37 +283,15 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
     if (A.empty())
       throw core::TopologyError("split: the plane split.cross_section_plane cuts no loop around the tube of the torus; move it so it crosses the ring");
   } else {
-    int lo = -1, hi = -1;
-    if (!prm.extreme_points.empty()) {
-      if (prm.extreme_points.size() != 2) throw core::ConfigError("split.extreme_points must be two points [[x,y,z], [x,y,z]]");
-      lo = nearest_vertex(mesh, prm.extreme_points[0]);
-      hi = nearest_vertex(mesh, prm.extreme_points[1]);
-    } else {
-      const Eigen::Vector3d axis = principal_axis(mesh);
-      double flo = std::numeric_limits<double>::infinity(), fhi = -flo;
-      for (auto v : mesh.vertices()) {
-        const double h = pt(mesh, static_cast<int>(v)).dot(axis);
-        if (h < flo) flo = h, lo = static_cast<int>(v);
-        if (h > fhi) fhi = h, hi = static_cast<int>(v);
-      }
-    }
-    if (lo == hi)
-      throw core::TopologyError("split: the min and max of the harmonic field fall on the same vertex " + std::to_string(lo) +
-                                "; set split.extreme_points to two distinct points");
-    f = harmonic_field(mesh, {{lo, 0.0}, {hi, 1.0}});
-    const CriticalPoints cp = critical_points(mesh, f);
+    CriticalPoints cp;
+    f = height_field(mesh, prm, &cp);
     d.critical_min = static_cast<int>(cp.minima.size());
     d.critical_max = static_cast<int>(cp.maxima.size());
     d.critical_saddle = cp.saddle_count();
-    std::vector<double> sv;
-    for (const auto& s : cp.saddles) sv.push_back(f[s.first]);
-    std::sort(sv.begin(), sv.end());
-    std::vector<std::pair<double, double>> gaps;  // (width, level)
-    for (std::size_t i = 0; i + 1 < sv.size(); ++i) gaps.push_back({sv[i + 1] - sv[i], 0.5 * (sv[i] + sv[i + 1])});
-    std::sort(gaps.rbegin(), gaps.rend());
+    const std::vector<std::pair<double, double>> gaps = saddle_gaps(f, cp);
     double level = std::numeric_limits<double>::quiet_NaN();
     for (const auto& [w, c] : gaps)
-      if (w > 1e-9 && has_ring_section(mesh, f, c)) {
+      if (has_ring_section(mesh, f, c)) {
         level = c;
         break;
       }
@@ -313,7 +354,7 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
   }
   while (corners < 4) {
     if (lines.empty()) {
-      for (int k = 0; k < 4; ++k) lines.push_back({false, -1, 0.125 + 0.25 * k, 0, 0, 0, true});
+      for (int k = 0; k < 4; ++k) lines.push_back({false, -1, level_avoiding(protect, v, k, 4, 0.125), 0, 0, 0, true});
       break;
     }
     // Widest gap between consecutive lines (by their v extent), a new line at its middle.
@@ -350,7 +391,7 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
   };
   for (int k = 0; k < n; ++k) {
     splits.clear();
-    auto loops = insert_isoline(mesh, u, between_vertices((k + 0.5) / n, u, 1.0), ou);
+    auto loops = insert_isoline(mesh, u, between_vertices(level_avoiding(protect, u, k, n, 0.5 / n), u, 1.0), ou);
     apply_splits(sharp, splits);
     apply_splits(cuts, splits);
     const auto loop = take(std::move(loops), v, "cross section " + std::to_string(k));
