@@ -126,6 +126,7 @@ Decomposition split(const surface::Mesh& mesh, const classify::Classification& c
     Decomposition d = detail::split_torus(mesh, detail::sharp_edges(c), params);
     return d;
   }
+  if (c.genus == 2) return detail::split_two_tori(mesh, params);
   std::ostringstream s;
   s << "split: genus " << c.genus << " (" << c.patches << " patches, " << c.curves.size() << " curves, " << c.corners.size()
     << " corners) is not implemented yet: only genus 0 (a cube) and genus 1 (a torus, or a cube minus a through hole) are; "
