@@ -1,0 +1,178 @@
+#include "polycube/patch_map.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/errors.h"
+
+namespace volts::polycube {
+
+namespace {
+
+using Vec3 = std::array<double, 3>;
+constexpr double kPi = 3.14159265358979323846;
+
+double dist(const Vec3& a, const Vec3& b) { return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])); }
+
+template <class P>
+double angle_at(const P& p, const P& q, const P& r, int dim) {  // angle at p in triangle pqr
+  double d = 0, la = 0, lb = 0;
+  for (int k = 0; k < dim; ++k) {
+    const double a = q[k] - p[k], b = r[k] - p[k];
+    d += a * b, la += a * a, lb += b * b;
+  }
+  if (la == 0 || lb == 0) return 0;
+  return std::acos(std::clamp(d / std::sqrt(la * lb), -1.0, 1.0));
+}
+
+}  // namespace
+
+std::vector<double> arc_length_fractions(const split::Layout& L, const std::vector<int>& chain) {
+  std::vector<double> s(chain.size(), 0.0);
+  for (std::size_t i = 1; i < chain.size(); ++i) s[i] = s[i - 1] + dist(L.points[chain[i - 1]], L.points[chain[i]]);
+  for (double& x : s) x = s.back() > 0 ? x / s.back() : 0.0;
+  return s;
+}
+
+std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapParams& params) {
+  if (params.weights != "mean-value" && params.weights != "uniform")
+    throw core::ConfigError("polycube.weights must be 'mean-value' or 'uniform', not '" + params.weights + "'");
+  const split::Layout& L = d.layout;
+  static const std::array<std::array<double, 2>, 4> corner{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}};
+  std::vector<PatchMap> out;
+  for (std::size_t pi = 0; pi < L.patches.size(); ++pi) {
+    const split::Patch& P = L.patches[pi];
+    std::map<int, int> local;  // layout vertex -> index
+    for (int t : P.triangles)
+      for (int v : L.triangles[t]) local.emplace(v, 0);
+    PatchMap m;
+    for (auto& [v, i] : local) i = static_cast<int>(m.vertices.size()), m.vertices.push_back(v);
+    const int n = static_cast<int>(m.vertices.size());
+    m.st.assign(n, {0, 0});
+    std::vector<char> fixed(n, 0);
+    // Sides onto the square's edges by arc length.
+    for (int k = 0; k < 4; ++k) {
+      const auto frac = arc_length_fractions(L, P.sides[k]);
+      const auto& a = corner[k];
+      const auto& b = corner[(k + 1) % 4];
+      for (std::size_t i = 0; i < P.sides[k].size(); ++i) {
+        const int v = local.at(P.sides[k][i]);
+        m.st[v] = {a[0] + frac[i] * (b[0] - a[0]), a[1] + frac[i] * (b[1] - a[1])};
+        fixed[v] = 1;
+      }
+    }
+    // Interior: one sparse solve for both coordinates.
+    std::vector<int> unknown(n, -1);
+    int nu = 0;
+    for (int v = 0; v < n; ++v)
+      if (!fixed[v]) unknown[v] = nu++;
+    std::vector<std::map<int, double>> w(n);  // ordered: deterministic assembly
+    for (int t : P.triangles) {
+      const auto& tr = L.triangles[t];
+      for (int c = 0; c < 3; ++c) {
+        const int i = tr[c], j = tr[(c + 1) % 3], k = tr[(c + 2) % 3];
+        const int li = local.at(i);
+        if (unknown[li] < 0) continue;
+        if (params.weights == "uniform") {
+          w[li][local.at(j)] += 0.5, w[li][local.at(k)] += 0.5;  // each edge is seen from two triangles
+          continue;
+        }
+        const double half = std::tan(angle_at(L.points[i], L.points[j], L.points[k], 3) / 2);
+        w[li][local.at(j)] += half / dist(L.points[i], L.points[j]);
+        w[li][local.at(k)] += half / dist(L.points[i], L.points[k]);
+      }
+    }
+    if (nu > 0) {
+      std::vector<Eigen::Triplet<double>> trip;
+      Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nu, 2);
+      for (int v = 0; v < n; ++v) {
+        if (unknown[v] < 0) continue;
+        double sum = 0;
+        for (const auto& [j, wij] : w[v]) {
+          sum += wij;
+          if (unknown[j] >= 0) trip.emplace_back(unknown[v], unknown[j], -wij);
+          else rhs(unknown[v], 0) += wij * m.st[j][0], rhs(unknown[v], 1) += wij * m.st[j][1];
+        }
+        trip.emplace_back(unknown[v], unknown[v], sum);
+      }
+      Eigen::SparseMatrix<double> A(nu, nu);
+      A.setFromTriplets(trip.begin(), trip.end());
+      Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+      lu.compute(A);
+      if (lu.info() != Eigen::Success) throw core::NumericalError("polycube: the disk map of patch " + std::to_string(pi) + " is singular");
+      const Eigen::MatrixXd x = lu.solve(rhs);
+      if (lu.info() != Eigen::Success || !x.allFinite()) throw core::NumericalError("polycube: the disk map of patch " + std::to_string(pi) + " failed");
+      for (int v = 0; v < n; ++v)
+        if (unknown[v] >= 0) m.st[v] = {x(unknown[v], 0), x(unknown[v], 1)};
+    }
+    // One consistent orientation of the patch's triangles (a patch may hold fill triangles stored
+    // the other way round: the disk where two tori meet), by walking across shared edges.
+    std::vector<char> rev(P.triangles.size(), 0), seen(P.triangles.size(), 0);
+    {
+      std::map<std::pair<int, int>, std::vector<int>> by_edge;
+      for (std::size_t i = 0; i < P.triangles.size(); ++i) {
+        const auto& tr = L.triangles[P.triangles[i]];
+        for (int k = 0; k < 3; ++k) by_edge[{std::min(tr[k], tr[(k + 1) % 3]), std::max(tr[k], tr[(k + 1) % 3])}].push_back(static_cast<int>(i));
+      }
+      auto has_directed = [&](int i, int a, int b) {  // triangle i, as oriented now, runs a -> b
+        const auto& tr = L.triangles[P.triangles[i]];
+        for (int k = 0; k < 3; ++k)
+          if (tr[k] == a && tr[(k + 1) % 3] == b) return !rev[i];
+        return static_cast<bool>(rev[i]);
+      };
+      for (std::size_t start = 0; start < P.triangles.size(); ++start) {
+        if (seen[start]) continue;
+        seen[start] = 1;
+        std::vector<int> stack = {static_cast<int>(start)};
+        while (!stack.empty()) {
+          const int i = stack.back();
+          stack.pop_back();
+          const auto& tr = L.triangles[P.triangles[i]];
+          for (int k = 0; k < 3; ++k) {
+            const int a = tr[k], b = tr[(k + 1) % 3];
+            for (int j : by_edge[{std::min(a, b), std::max(a, b)}]) {
+              if (seen[j]) continue;
+              seen[j] = 1;
+              // i runs a -> b (or b -> a); j must run the other way.
+              const bool i_ab = has_directed(i, a, b);
+              rev[j] = 0;
+              if (has_directed(j, a, b) == i_ab) rev[j] = 1;
+              stack.push_back(j);
+            }
+          }
+        }
+      }
+    }
+    // Flips: every triangle must turn like the majority in the square (exact predicate).
+    using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+    int positive = 0, negative = 0;
+    std::vector<CGAL::Orientation> o;
+    for (std::size_t i = 0; i < P.triangles.size(); ++i) {
+      auto tr = L.triangles[P.triangles[i]];
+      if (rev[i]) std::swap(tr[1], tr[2]);
+      const auto& a = m.st[local.at(tr[0])];
+      const auto& b = m.st[local.at(tr[1])];
+      const auto& c = m.st[local.at(tr[2])];
+      o.push_back(CGAL::orientation(K::Point_2(a[0], a[1]), K::Point_2(b[0], b[1]), K::Point_2(c[0], c[1])));
+      positive += o.back() == CGAL::POSITIVE, negative += o.back() == CGAL::NEGATIVE;
+      std::array<std::array<double, 2>, 3> q{a, b, c};
+      for (int k = 0; k < 3; ++k) {
+        const double on_surface = angle_at(L.points[tr[k]], L.points[tr[(k + 1) % 3]], L.points[tr[(k + 2) % 3]], 3);
+        const double in_square = angle_at(q[k], q[(k + 1) % 3], q[(k + 2) % 3], 2);
+        m.max_angle_distortion_deg = std::max(m.max_angle_distortion_deg, std::abs(in_square - on_surface) * 180 / kPi);
+      }
+    }
+    // The patch's own orientation: that of the majority (its triangles all share one orientation
+    // on the surface, so any triangle against the majority, or degenerate, is a flip).
+    const CGAL::Orientation good = positive >= negative ? CGAL::POSITIVE : CGAL::NEGATIVE;
+    for (auto x : o) m.flipped_triangles += x != good;
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+}  // namespace volts::polycube

@@ -1,0 +1,38 @@
+// volts::polycube — the surface map of every quad patch onto the unit square (Liu et al. 2013,
+// §4.2–4.3: "the CAD surface is then mapped to the polycube surface").
+//
+// Corner k of a patch goes to (0,0), (1,0), (1,1), (0,1); each side onto its square edge by arc
+// length, so the two patches along a side (or a patch and a cross section) parameterize it alike;
+// the interior by Floater's mean-value weights (Floater 2003), which with a convex boundary gives a
+// one-to-one map. Each patch's square is later placed on its polycube face.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "split/split.h"
+
+namespace volts::polycube {
+
+/// The map of one patch: (s, t) in [0,1]^2 for each of its vertices.
+struct PatchMap {
+  std::vector<int> vertices;                  ///< layout vertex ids of the patch, increasing
+  std::vector<std::array<double, 2>> st;      ///< their images, same order
+  int flipped_triangles = 0;                  ///< mapped triangles against the patch's orientation (CGAL exact orientation)
+  double max_angle_distortion_deg = 0;        ///< max |angle in the square − angle on the surface| over triangle corners
+};
+
+/// Parameters of map_patches().
+struct PatchMapParams {
+  std::string weights = "mean-value";  ///< "mean-value" (Floater 2003) or "uniform" (Tutte 1963)
+};
+
+/// Maps every patch of a decomposition. Throws core::ConfigError for unknown weights,
+/// core::NumericalError if a patch's linear system cannot be solved.
+std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapParams& params);
+
+/// Arc-length fraction of each vertex along a vertex chain (0 at the first, 1 at the last).
+std::vector<double> arc_length_fractions(const split::Layout& layout, const std::vector<int>& chain);
+
+}  // namespace volts::polycube
