@@ -1,0 +1,107 @@
+#include "polycube/embedding.h"
+
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "core/errors.h"
+
+namespace volts::polycube {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+using Vec3 = std::array<double, 3>;
+}  // namespace
+
+std::array<double, 3> cell_point(const Embedding& e, int k, const std::array<double, 3>& x) {
+  Vec3 r{0, 0, 0};
+  for (int corner = 0; corner < 8; ++corner) {
+    const double w = (corner & 1 ? x[0] : 1 - x[0]) * (corner & 2 ? x[1] : 1 - x[1]) * (corner & 4 ? x[2] : 1 - x[2]);
+    for (int i = 0; i < 3; ++i) r[i] += w * e.cells[k][corner][i];
+  }
+  return r;
+}
+
+Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>& maps) {
+  if (d.tori.size() != 1 || d.components.size() != d.tori[0].components.size())
+    throw core::TopologyError("polycube: only a decomposition into one torus can be embedded yet (this one has " +
+                              std::to_string(d.tori.size()) + " tori and " + std::to_string(d.components.size()) + " components)");
+  const int n = static_cast<int>(d.components.size());
+  Embedding e;
+  e.cells.resize(n);
+  e.corner_vertex.resize(n);
+  // Local corner (a, b, c) of cube k: the square corner q_i of the cross section is (b, c) =
+  // (0,0), (1,0), (1,1), (0,1) for corner line i = 0..3, and faces[i].corners = {(0,q_i), (1,q_i), ...}.
+  static const int qb[4] = {0, 1, 1, 0}, qc[4] = {0, 0, 1, 1};
+  auto spoke = [&](int k, int b, int c) {
+    const double theta = 2 * kPi * k / n, r = 1.0 + b;
+    return Vec3{r * std::cos(theta), r * std::sin(theta), static_cast<double>(c)};
+  };
+  for (int k = 0; k < n; ++k) {
+    const auto& comp = d.components[d.tori[0].components[k]];
+    if (comp.faces.size() != 6) throw core::TopologyError("polycube: component " + std::to_string(k) + " has not six faces");
+    for (int i = 0; i < 4; ++i)
+      if (comp.faces[i].patches.size() != 1)
+        throw core::TopologyError("polycube: a torus cube face made of " + std::to_string(comp.faces[i].patches.size()) +
+                                  " patches (sharp curves inside a face) is not supported yet");
+    for (int i = 0; i < 4; ++i)
+      for (int a = 0; a < 2; ++a) {
+        const int corner = a + 2 * qb[i] + 4 * qc[i];
+        e.corner_vertex[k][corner] = comp.faces[i].corners[a];
+        e.cells[k][corner] = spoke(k + a, qb[i], qc[i]);
+      }
+  }
+  // Mirror if the embedded surface has the other orientation than the physical one.
+  const split::Layout& L = d.layout;
+  auto signed_volume = [&](const std::vector<Vec3>& p) {
+    double v = 0;
+    for (const auto& t : L.triangles) {
+      const Vec3 &a = p[t[0]], &b = p[t[1]], &c = p[t[2]];
+      v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    }
+    return v;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto place = [&]() {
+    std::vector<Vec3> pts(L.points.size(), Vec3{nan, nan, nan});
+    double mismatch = 0;
+    for (int k = 0; k < n; ++k) {
+      const auto& comp = d.components[d.tori[0].components[k]];
+      std::map<int, int> local_corner;  // layout vertex -> local corner index
+      for (int c = 0; c < 8; ++c) local_corner[e.corner_vertex[k][c]] = c;
+      for (int i = 0; i < 4; ++i) {
+        const int p = comp.faces[i].patches[0];
+        const auto& P = L.patches[p];
+        std::array<Vec3, 4> X;  // local coordinates of the patch's corners
+        for (int j = 0; j < 4; ++j) {
+          const auto it = local_corner.find(P.corners[j]);
+          if (it == local_corner.end()) throw core::TopologyError("polycube: patch " + std::to_string(p) + " has a corner that is not a corner of its cube");
+          X[j] = {double(it->second & 1), double((it->second >> 1) & 1), double((it->second >> 2) & 1)};
+        }
+        const auto& m = maps[p];
+        for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+          const double s = m.st[v][0], t = m.st[v][1];
+          Vec3 abc{};
+          for (int q = 0; q < 3; ++q)
+            abc[q] = (1 - s) * (1 - t) * X[0][q] + s * (1 - t) * X[1][q] + s * t * X[2][q] + (1 - s) * t * X[3][q];
+          const Vec3 y = cell_point(e, k, abc);
+          Vec3& slot = pts[m.vertices[v]];
+          if (!std::isnan(slot[0]))
+            mismatch = std::max(mismatch, std::sqrt((slot[0] - y[0]) * (slot[0] - y[0]) + (slot[1] - y[1]) * (slot[1] - y[1]) + (slot[2] - y[2]) * (slot[2] - y[2])));
+          slot = y;
+        }
+      }
+    }
+    e.max_mismatch = mismatch;
+    return pts;
+  };
+  e.points = place();
+  if (signed_volume(e.points) < 0) {
+    for (auto& cell : e.cells)
+      for (auto& x : cell) x[2] = 1 - x[2];
+    e.points = place();
+  }
+  return e;
+}
+
+}  // namespace volts::polycube

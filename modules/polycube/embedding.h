@@ -1,0 +1,35 @@
+// volts::polycube — the polycube embedding of a torus decomposition (Liu et al. 2013, §4.2: "for a
+// torus, we use four consecutive unit cubes ... the left face of the first cube connecting to the
+// right face of the last"). The ring of n cubes is embedded as a regular n-gon annulus (inner
+// radius 1, outer 2, height 1): cube k is the prism between the polygon's k-th and (k+1)-th
+// spokes, with local coordinates (a, b, c) ∈ [0,1]^3 — a along the ring, b across it (inner →
+// outer), c through its height — and a trilinear map onto the prism. Every surface vertex gets the
+// point of its patch's square image on its cube face; this is the boundary condition of the volume
+// map (volmap::harmonic_volume_map).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "polycube/patch_map.h"
+#include "split/split.h"
+
+namespace volts::polycube {
+
+struct Embedding {
+  std::vector<std::array<double, 3>> points;                    ///< per layout vertex (unused vertices: NaN)
+  std::vector<std::array<std::array<double, 3>, 8>> cells;      ///< per component: its prism's corners, index a + 2b + 4c
+  std::vector<std::array<int, 8>> corner_vertex;                ///< per component: layout vertex at each local corner
+  double max_mismatch = 0;  ///< max distance between the points a vertex gets from its different patches (0 up to rounding)
+};
+
+/// Embeds a decomposition of one torus whose cube faces are single patches or cross sections,
+/// oriented like the surface (mirrored if needed, so the volume map keeps orientation). Throws
+/// core::TopologyError for other decompositions (several tori, virtual components, faces made of
+/// several patches), naming what is not supported yet.
+Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>& maps);
+
+/// The embedding point of local coordinates abc in component k (trilinear in its prism).
+std::array<double, 3> cell_point(const Embedding& e, int component, const std::array<double, 3>& abc);
+
+}  // namespace volts::polycube
