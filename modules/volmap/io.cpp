@@ -86,6 +86,7 @@ core::Json report_figures(const VolumeMap& m) {
                     {"flipped_tets", m.flipped_tets},
                     {"untangle_sweeps", m.untangle_sweeps},
                     {"untangle_moves", m.untangle_moves},
+                    {"untangle_joint", m.untangle_joint},
                     {"min_volume_ratio", m.min_volume_ratio},
                     {"parameter_volume", m.parameter_volume}};
 }
@@ -143,6 +144,9 @@ VolumeMap from_json(const core::Json& j, const std::string& file) {
   m.flipped_tets = get_int("flipped_tets");
   m.untangle_sweeps = get_int("untangle_sweeps");
   m.untangle_moves = get_int("untangle_moves");
+  const core::Json& joint = core::require(j, "untangle_joint", file);
+  if (!joint.is_boolean()) throw core::InvalidInputError(file + ": untangle_joint must be true or false");
+  m.untangle_joint = joint.get<bool>();
   m.min_volume_ratio = get_double("min_volume_ratio");
   m.parameter_volume = get_double("parameter_volume");
   return m;

@@ -1,4 +1,5 @@
-// Liu et al. 2013 §4.3 volume map: TetGen tets, chord splitting, harmonic map, untangling.
+// Liu et al. 2013 §4.3 volume map: TetGen tets, chord splitting, harmonic map, untangling (single-vertex
+// LPs, then a joint foldover-free energy of Garanzha et al. 2021 if needed).
 #include "volmap/volmap.h"
 
 #include <nlopt.hpp>
@@ -256,6 +257,118 @@ bool optimize_vertex(VolumeMap& vm, const std::vector<int>& tets_of_v, const std
   return false;
 }
 
+// Fallback when single-vertex moves stall (a tangle that needs several vertices to move together):
+// the free vertices within a few rings of the inverted tets minimize the regularized foldover-free
+// energy of Garanzha et al. 2021 ("Foldover-free maps in 50 lines of code"), jointly, by L-BFGS
+// (NLopt), with the regularization eps lowered until every tet is positive.
+struct GlobalData {
+  VolumeMap* vm;
+  std::vector<int> vars;                // vertex of each variable block (3 doubles)
+  std::vector<int> var_of;              // vertex -> variable block or -1
+  std::vector<int> tets;                // tets touching a variable vertex
+  std::vector<Eigen::Matrix3d> s_inv;   // per tet in `tets`: (physical shape matrix)^-1 * scale
+  std::vector<double> weight;           // per tet: physical volume
+  double eps = 1;
+  double det_min = 0;
+};
+
+double global_energy(unsigned nx, const double* x, double* grad, void* data) {
+  auto* d = static_cast<GlobalData*>(data);
+  auto& p = d->vm->parameter;
+  for (std::size_t k = 0; k < d->vars.size(); ++k) p[d->vars[k]] = Vec(x[3 * k], x[3 * k + 1], x[3 * k + 2]);
+  if (grad) std::fill(grad, grad + nx, 0.0);
+  double e = 0;
+  d->det_min = HUGE_VAL;
+  const double theta = 0.5;
+  for (std::size_t i = 0; i < d->tets.size(); ++i) {
+    const Tet& t = d->vm->tets[d->tets[i]];
+    Eigen::Matrix3d P;
+    for (int j = 0; j < 3; ++j) P.col(j) = p[t[j + 1]] - p[t[0]];
+    const Eigen::Matrix3d J = P * d->s_inv[i];
+    Eigen::Matrix3d C;  // d det / d J
+    C.col(0) = J.col(1).cross(J.col(2)), C.col(1) = J.col(2).cross(J.col(0)), C.col(2) = J.col(0).cross(J.col(1));
+    const double D = J.col(0).dot(C.col(0)), F = J.squaredNorm();
+    d->det_min = std::min(d->det_min, D);
+    const double root = std::sqrt(d->eps * d->eps + D * D), chi = (D + root) / 2, dchi = chi / root;
+    const double c23 = std::cbrt(chi * chi);
+    const double f = (1 - theta) * F / (3 * c23) + theta * (D * D + 1) / (2 * chi);
+    e += d->weight[i] * f;
+    if (!grad) continue;
+    const Eigen::Matrix3d dJ = (1 - theta) * (2 * J / (3 * c23) - (2.0 / 9) * F / (c23 * chi) * dchi * C) +
+                               theta * (D / chi - (D * D + 1) / (2 * chi * chi) * dchi) * C;
+    const Eigen::Matrix3d dP = d->weight[i] * dJ * d->s_inv[i].transpose();
+    for (int j = 0; j < 4; ++j) {
+      const int k = d->var_of[t[j]];
+      if (k < 0) continue;
+      const Vec g = j == 0 ? Vec(-dP.col(0) - dP.col(1) - dP.col(2)) : Vec(dP.col(j - 1));
+      for (int c = 0; c < 3; ++c) grad[3 * k + c] += g[c];
+    }
+  }
+  return e;
+}
+
+void untangle_jointly(VolumeMap& vm, const std::vector<std::vector<int>>& nbrs, const std::vector<std::vector<int>>& tets_of,
+                      int rings, int max_rounds) {
+  const int n = vm.surface_vertices, np = static_cast<int>(vm.parameter.size());
+  GlobalData d;
+  d.vm = &vm;
+  d.var_of.assign(np, -1);
+  std::set<int> active;
+  for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
+    if (!(volume6(vm.parameter, vm.tets[t]) > 0))
+      for (int v : vm.tets[t])
+        if (v >= n) active.insert(v);
+  for (int r = 0; r < rings; ++r) {
+    std::set<int> grown = active;
+    for (int v : active)
+      for (int u : nbrs[v])
+        if (u >= n) grown.insert(u);
+    active.swap(grown);
+  }
+  if (active.empty()) return;
+  std::set<int> tets;
+  for (int v : active) {
+    d.var_of[v] = static_cast<int>(d.vars.size());
+    d.vars.push_back(v);
+    tets.insert(tets_of[v].begin(), tets_of[v].end());
+  }
+  d.tets.assign(tets.begin(), tets.end());
+  // J is scaled so that det J averages 1 over the whole map (the volume term prefers det J = 1).
+  double phys = 0;
+  for (const Tet& t : vm.tets) phys += volume6(vm.physical, t) / 6;
+  const double scale = std::cbrt(phys / vm.parameter_volume);
+  for (int t : d.tets) {
+    Eigen::Matrix3d S;
+    for (int j = 0; j < 3; ++j) S.col(j) = vm.physical[vm.tets[t][j + 1]] - vm.physical[vm.tets[t][0]];
+    d.s_inv.push_back(S.inverse() * scale);
+    d.weight.push_back(S.determinant() / 6);
+  }
+  std::vector<double> x(3 * d.vars.size());
+  for (std::size_t k = 0; k < d.vars.size(); ++k)
+    for (int c = 0; c < 3; ++c) x[3 * k + c] = vm.parameter[d.vars[k]][c];
+  global_energy(static_cast<unsigned>(x.size()), x.data(), nullptr, &d);
+  double e_prev = HUGE_VAL;
+  for (int round = 0; round < max_rounds; ++round) {
+    // eps update of Garanzha et al.: small enough to make inverted tets expensive, never 0.
+    const double mu = 0.9 * (d.det_min + std::sqrt(d.eps * d.eps + d.det_min * d.det_min)) / 2;
+    d.eps = d.det_min < mu ? std::max(1e-12, 2 * std::sqrt(mu * (mu - d.det_min))) : 1e-12;
+    nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(x.size()));
+    opt.set_min_objective(global_energy, &d);
+    opt.set_maxeval(300);
+    opt.set_ftol_rel(1e-9);
+    double e = 0;
+    try {
+      opt.optimize(x, e);
+    } catch (const std::exception&) {
+      // Round-off limited: x holds the last iterate.
+    }
+    e = global_energy(static_cast<unsigned>(x.size()), x.data(), nullptr, &d);
+    if (d.det_min > 0 && std::abs(e_prev - e) < 1e-6 * std::abs(e)) break;
+    e_prev = e;
+  }
+  // The energy is evaluated over these tets only; the parameter array now holds the last x.
+}
+
 void untangle(VolumeMap& vm, const Params& params) {
   const int np = static_cast<int>(vm.parameter.size()), n = vm.surface_vertices;
   const int nt = static_cast<int>(vm.tets.size());
@@ -278,34 +391,48 @@ void untangle(VolumeMap& vm, const Params& params) {
       if (!(volume6(vm.parameter, vm.tets[t]) > target6)) b.push_back(t);
     return b;
   };
-  std::vector<int> bad = bad_tets();
-  int stalled = 0;
-  int ring = 0;  // grown when a sweep makes no progress: a tangle may need its neighbours to move
-  double worst = HUGE_VAL;
-  for (int t : bad) worst = std::min(worst, volume6(vm.parameter, vm.tets[t]));
-  for (int sweep = 0; sweep < params.untangle_max_sweeps && !bad.empty(); ++sweep) {
-    std::set<int> active;
-    for (int t : bad)
-      for (int v : vm.tets[t])
-        if (v >= n) active.insert(v);
-    for (int r = 0; r < ring; ++r) {
-      std::set<int> grown = active;
-      for (int v : active)
-        for (int u : nbrs[v])
-          if (u >= n) grown.insert(u);
-      active.swap(grown);
+  // Gauss-Seidel sweeps of single-vertex moves over the free vertices near bad tets.
+  const auto sweeps = [&] {
+    std::vector<int> bad = bad_tets();
+    int stalled = 0;
+    int ring = 0;  // grown when a sweep makes no progress: a tangle may need its neighbours to move
+    double worst = HUGE_VAL;
+    for (int t : bad) worst = std::min(worst, volume6(vm.parameter, vm.tets[t]));
+    while (vm.untangle_sweeps < params.untangle_max_sweeps && !bad.empty()) {
+      std::set<int> active;
+      for (int t : bad)
+        for (int v : vm.tets[t])
+          if (v >= n) active.insert(v);
+      for (int r = 0; r < ring; ++r) {
+        std::set<int> grown = active;
+        for (int v : active)
+          for (int u : nbrs[v])
+            if (u >= n) grown.insert(u);
+        active.swap(grown);
+      }
+      for (int v : active) vm.untangle_moves += optimize_vertex(vm, tets_of[v], nbrs, v);
+      ++vm.untangle_sweeps;
+      const std::vector<int> now = bad_tets();
+      double w = HUGE_VAL;
+      for (int t : now) w = std::min(w, volume6(vm.parameter, vm.tets[t]));
+      const bool progress = now.size() < bad.size() || w > worst + 1e-6 * std::abs(worst);
+      ring = progress ? 0 : std::min(ring + 1, 6);
+      stalled = progress ? 0 : stalled + 1;
+      bad = now;
+      worst = w;
+      if (stalled > 12) break;  // the largest neighbourhood has not helped for several sweeps
     }
-    for (int v : active) vm.untangle_moves += optimize_vertex(vm, tets_of[v], nbrs, v);
-    vm.untangle_sweeps = sweep + 1;
-    const std::vector<int> now = bad_tets();
-    double w = HUGE_VAL;
-    for (int t : now) w = std::min(w, volume6(vm.parameter, vm.tets[t]));
-    const bool progress = now.size() < bad.size() || w > worst + 1e-6 * std::abs(worst);
-    ring = progress ? 0 : std::min(ring + 1, 6);
-    stalled = progress ? 0 : stalled + 1;
-    bad = now;
-    worst = w;
-    if (stalled > 12) break;  // the largest neighbourhood has not helped for several sweeps
+  };
+  sweeps();
+  const auto flipped = [&] {
+    int c = 0;
+    for (int t = 0; t < nt; ++t) c += !(volume6(vm.parameter, vm.tets[t]) > 0);
+    return c;
+  };
+  if (flipped() > 0 && params.untangle_max_sweeps > 0) {
+    untangle_jointly(vm, nbrs, tets_of, 3, 50);
+    vm.untangle_joint = true;
+    sweeps();  // lifts the tets the joint pass left below the target
   }
 }
 

@@ -31,7 +31,8 @@ struct Params {
   /// Weights of the Laplacian: "cotangent" (P1 finite-element stiffness; reproduces affine maps
   /// exactly) or "uniform" (graph Laplacian).
   std::string laplacian = "cotangent";
-  /// Bound on untangling sweeps (each sweep optimizes every free vertex near a bad tet once) [0, 100000].
+  /// Bound on untangling sweeps (each sweep optimizes every free vertex near a bad tet once) [0, 100000];
+  /// 0 = no untangling.
   int untangle_max_sweeps = 500;
   /// Untangling target: tets whose parameter volume is below this fraction of the mean parameter
   /// tet volume are improved [0, 1); 0 = only inverted and flat tets.
@@ -50,6 +51,7 @@ struct VolumeMap {
   int flipped_tets = 0;   ///< after untangling; 0 means the map is one-to-one onto the parameter domain
   int untangle_sweeps = 0;                 ///< sweeps the untangling took
   int untangle_moves = 0;                  ///< vertex moves it made
+  bool untangle_joint = false;             ///< the joint fallback (Garanzha et al. 2021) ran
   /// min over tets of (parameter volume / physical volume) / (total parameter / total physical
   /// volume): the smallest relative Jacobian of the map; 1 for an affine map, <= 0 iff a tet is flipped.
   double min_volume_ratio = 0;
@@ -60,8 +62,10 @@ struct VolumeMap {
 /// surface_parameter[i]; interior points by the harmonic (discrete Laplace) map with that Dirichlet
 /// condition; then inverted and near-flat tets (parameter space) are untangled by local optimization
 /// with the surface vertices fixed: each free vertex near a bad tet moves to maximize the minimum
-/// signed volume of its one-ring (a linear program in its position, solved with NLopt SLQP), in
-/// sweeps until no tet is bad or untangle_max_sweeps. Before that, interior edges and faces whose
+/// signed volume of its one-ring (a linear program in its position, solved with NLopt SLSQP), in
+/// sweeps until no tet is bad or untangle_max_sweeps. If tets stay inverted (a tangle that needs
+/// several vertices to move together), the free vertices within 3 rings of them minimize the
+/// foldover-free energy of Garanzha et al. 2021 jointly (NLopt L-BFGS), then sweeps resume. Before that, interior edges and faces whose
 /// vertices are all on the surface are split: such a chord would have to lie on or outside the
 /// boundary of a polycube, so no map could keep its tets positive.
 /// Does not throw when untangling fails: flipped_tets > 0 says so (the caller decides).

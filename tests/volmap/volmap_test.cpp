@@ -121,8 +121,9 @@ Case make_case(const std::string& name) {
   } else if (name == "sphere") {
     c.mesh = test::generated_model("sphere", 32);
     c.sp = cube_boundary_map(c.mesh);
-  } else if (name == "torus" || name == "torus-fine") {
-    c.mesh = test::generated_model("torus", 24);  // 64 x 24 grid: corners on grid lines
+  } else if (name == "torus" || name == "torus-fine" || name == "torus-48") {
+    // 64 x 24 (128 x 48) grid: corners on grid lines
+    c.mesh = test::generated_model("torus", name == "torus-48" ? 48 : 24);
     c.sp = ring_boundary_map(c.mesh, 2.0);
     c.ring = true;
     if (name == "torus-fine") c.params.tetgen.max_volume_rel = 1e-4;  // ~18,000 tets, more interior points
@@ -190,7 +191,7 @@ TEST_P(VolumeMapCase, UntangledAndOneToOne) {
   EXPECT_EQ(outside, 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Models, VolumeMapCase, ::testing::Values("box", "bulged-box", "sphere", "torus", "torus-fine", "cinolib-torus"),
+INSTANTIATE_TEST_SUITE_P(Models, VolumeMapCase, ::testing::Values("box", "bulged-box", "sphere", "torus", "torus-fine", "torus-48", "cinolib-torus"),
                          [](const auto& info) {
                            std::string n = info.param;
                            for (char& ch : n)
@@ -321,6 +322,7 @@ TEST(VolumeMapFiles, JsonRoundTripAndVtu) {
   EXPECT_EQ(back.surface_vertices, m.surface_vertices);
   EXPECT_EQ(back.flipped_tets_before_untangling, m.flipped_tets_before_untangling);
   EXPECT_EQ(back.min_volume_ratio, m.min_volume_ratio);
+  EXPECT_EQ(back.untangle_joint, m.untangle_joint);
   core::Json bad = volmap::to_json(m);
   bad["tets"][5] = 1 << 30;
   try {
