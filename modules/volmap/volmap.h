@@ -65,9 +65,10 @@ struct VolumeMap {
 /// signed volume of its one-ring (a linear program in its position, solved with NLopt SLSQP), in
 /// sweeps until no tet is bad or untangle_max_sweeps. If tets stay inverted (a tangle that needs
 /// several vertices to move together), the free vertices within 3 rings of them minimize the
-/// foldover-free energy of Garanzha et al. 2021 jointly (NLopt L-BFGS), then sweeps resume. Before that, interior edges and faces whose
-/// vertices are all on the surface are split: such a chord would have to lie on or outside the
-/// boundary of a polycube, so no map could keep its tets positive.
+/// foldover-free energy of Garanzha et al. 2021 jointly (NLopt L-BFGS), then sweeps resume.
+/// Before mapping, interior edges and faces whose vertices are all on the surface are split: such a
+/// chord would have to lie on or outside the boundary of a polycube, so no map could keep its tets
+/// positive.
 /// Does not throw when untangling fails: flipped_tets > 0 says so (the caller decides).
 /// Throws core::InvalidInputError if surface_parameter does not have one entry per surface vertex,
 /// has a non-finite entry, or maps the surface onto a region of volume <= 0 (mirrored), and if the
