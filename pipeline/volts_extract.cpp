@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("tmesh");
         const core::Json j = core::read_stage_file(in, "volts-tmesh", 1);
+        pipeline::check_integer_members(in, j);
         const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
         const tmesh::TMesh t = tmesh::from_json(core::require(j, "tmesh", in), in);
         const extract::Result r = extract::extract(t, mesh, ctx.config.extract);

@@ -16,11 +16,12 @@ int main(int argc, char** argv) {
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("polycube");
         const core::Json j = core::read_stage_file(in, "volts-polycube", 1);
+        pipeline::check_integer_members(in, j);
         const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
         const classify::Classification c = classify::from_json(core::require(j, "classification", in), in);
         const polycube::Polycube p = polycube::from_json(core::require(j, "polycube", in), in);
-        if (p.vertex_uvw.size() != mesh.number_of_vertices() || c.face_patch.size() != mesh.number_of_faces())
-          throw core::InvalidInputError(in + ": polycube and surface sizes do not match");
+        pipeline::check_classification(in, mesh, c);
+        pipeline::check_polycube(in, mesh, c, p);
         std::unique_ptr<polycube::VolumeMap> map;
         {
           core::LogSection s("volume map");

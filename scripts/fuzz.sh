@@ -6,7 +6,8 @@
 #
 # Environment: VOLTS_FUZZ_BUILD_DIR (default build-fuzz), VOLTS_FUZZ_OUT (default
 # $VOLTS_FUZZ_BUILD_DIR/fuzz-out: grown corpora, logs, crash artifacts), VOLTS_FUZZ_TIMEOUT
-# (seconds per input before it counts as a hang, default 10), VOLTS_FUZZ_JOBS (build jobs, default 2).
+# (seconds per input before it counts as a hang, default 10), VOLTS_FUZZ_MAX_TIME (seconds per target,
+# stops a target earlier than RUNS; default 0 = no limit), VOLTS_FUZZ_JOBS (build jobs, default 2).
 # Exits non-zero if any target found a crash, leak, uncaught exception or hang; the input is then in
 # $VOLTS_FUZZ_OUT/artifacts/TARGET/ (reproduce: build-fuzz/fuzz/TARGET FILE).
 set -euo pipefail
@@ -21,6 +22,7 @@ fi
 BUILD=${VOLTS_FUZZ_BUILD_DIR:-build-fuzz}
 OUT=${VOLTS_FUZZ_OUT:-$BUILD/fuzz-out}
 TIMEOUT=${VOLTS_FUZZ_TIMEOUT:-10}
+MAX_TIME=${VOLTS_FUZZ_MAX_TIME:-0}
 
 CC=clang CXX=clang++ cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
   -DVOLTS_BUILD_FUZZERS=ON -DVOLTS_BUILD_TESTS=OFF -DVOLTS_BUILD_BENCH=OFF >/dev/null
@@ -36,7 +38,7 @@ for t in "${TARGETS[@]}"; do
   mkdir -p "$corpus" "$artifacts" "$(dirname "$log")"
   start=$(date +%s.%N)
   # New inputs go to the first directory (the grown corpus), never into the repository's seeds.
-  if "$BUILD/fuzz/$t" -runs="$RUNS" -timeout="$TIMEOUT" -rss_limit_mb=2048 -print_final_stats=1 \
+  if "$BUILD/fuzz/$t" -runs="$RUNS" -max_total_time="$MAX_TIME" -timeout="$TIMEOUT" -rss_limit_mb=2048 -print_final_stats=1 \
        -artifact_prefix="$artifacts/" "$corpus" "$seeds" >"$log" 2>&1; then
     result=ok
   else

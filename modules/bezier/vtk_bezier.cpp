@@ -148,6 +148,9 @@ const Eigen::MatrixXd& lagrange_to_bezier_tet(int n) {
   return cache[n] = M.inverse();
 }
 
+// Highest degree read from a .vtu (VTK itself handles far less; keeps point counts small).
+constexpr int kMaxVtuDegree = 30;
+
 int cube_root(int n) {
   const int r = static_cast<int>(std::lround(std::cbrt(double(n))));
   return r * r * r == n ? r : -1;
@@ -173,7 +176,14 @@ VtuElements read_bezier_vtu(const std::string& path) {
   vtkDataArray* degrees = grid->GetCellData()->GetHigherOrderDegrees();
   if (!degrees) degrees = grid->GetCellData()->GetArray("HigherOrderDegrees");
   VtuElements out;
-  const vtkIdType nc = grid->GetNumberOfCells();
+  const vtkIdType nc = grid->GetNumberOfCells(), npoints = grid->GetNumberOfPoints();
+  // VTK reads the arrays as they are: their sizes are checked here, before any lookup.
+  if (weights && (weights->GetNumberOfTuples() < npoints || weights->GetNumberOfComponents() < 1))
+    throw core::InvalidInputError(path + ": RationalWeights has " + std::to_string(weights->GetNumberOfTuples()) +
+                                  " values for " + std::to_string(npoints) + " points");
+  if (degrees && degrees->GetNumberOfTuples() < nc)
+    throw core::InvalidInputError(path + ": HigherOrderDegrees has " + std::to_string(degrees->GetNumberOfTuples()) +
+                                  " values for " + std::to_string(nc) + " cells");
   vtkNew<vtkIdList> ids;
   for (vtkIdType c = 0; c < nc; ++c) {
     const int type = grid->GetCellType(c);
@@ -181,9 +191,15 @@ VtuElements read_bezier_vtu(const std::string& path) {
     const int np = static_cast<int>(ids->GetNumberOfIds());
     const std::string where = path + ": cell " + std::to_string(c) + " (VTK type " + std::to_string(type) + ", " +
                               std::to_string(np) + " points)";
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      if (ids->GetId(k) < 0 || ids->GetId(k) >= npoints)
+        throw core::InvalidInputError(where + ": point id " + std::to_string(ids->GetId(k)) + " out of range (" +
+                                      std::to_string(npoints) + " points)");
     const auto point = [&](int local) {
       double x[3];
       grid->GetPoint(ids->GetId(local), x);
+      if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+        throw core::InvalidInputError(where + ": point " + std::to_string(ids->GetId(local)) + " is not finite");
       return Eigen::Vector3d(x[0], x[1], x[2]);
     };
     const auto weight = [&](int local) { return weights ? weights->GetComponent(ids->GetId(local), 0) : 1.0; };
@@ -193,7 +209,14 @@ VtuElements read_bezier_vtu(const std::string& path) {
       if (type == VTK_HEXAHEDRON) {
         h.degree = {1, 1, 1};
       } else if (degrees && degrees->GetNumberOfComponents() >= 3) {
-        for (int d = 0; d < 3; ++d) h.degree[d] = static_cast<int>(degrees->GetComponent(c, d));
+        for (int d = 0; d < 3; ++d) {
+          // Checked as a double: a cast of NaN or 1e30 to int is undefined.
+          const double g = degrees->GetComponent(c, d);
+          if (!(g >= 1 && g <= kMaxVtuDegree) || g != std::floor(g))
+            throw core::InvalidInputError(where + ": HigherOrderDegrees " + std::to_string(g) + " is not a degree in [1, " +
+                                          std::to_string(kMaxVtuDegree) + "]");
+          h.degree[d] = static_cast<int>(g);
+        }
       } else {
         const int r = cube_root(np) - 1;
         h.degree = {r, r, r};

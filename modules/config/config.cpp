@@ -230,7 +230,51 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
 
 }  // namespace
 
+namespace {
+
+/// yaml-cpp parses nested collections recursively, so deep nesting ("[[[[..." or "- - - -...")
+/// would overflow the stack. A config is two levels deep: refuse more than kMaxNesting levels of
+/// flow brackets, or a line that starts deeper than kMaxIndent columns (indentation and "- ").
+void check_nesting(const std::string& text, const std::string& source) {
+  constexpr int kMaxNesting = 32, kMaxIndent = 128;
+  int depth = 0, line = 1, column = 0;
+  bool line_start = true;
+  char quote = 0;
+  for (const char c : text) {
+    if (c == '\n') {
+      ++line;
+      column = 0;
+      line_start = true;
+      quote = 0;  // an apostrophe in a comment must not hide the next lines
+      continue;
+    }
+    if (line_start) {
+      if (c == ' ' || c == '\t' || c == '-') {
+        if (++column > kMaxIndent)
+          throw core::ConfigError(source + ": line " + std::to_string(line) + " is nested too deeply (more than " +
+                                  std::to_string(kMaxIndent) + " columns of indentation)");
+        continue;
+      }
+      line_start = false;
+    }
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxNesting)
+        throw core::ConfigError(source + ": line " + std::to_string(line) + " is nested too deeply (more than " +
+                                std::to_string(kMaxNesting) + " levels of brackets)");
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
+}  // namespace
+
 Config parse_config(const std::string& text, const std::string& source) {
+  check_nesting(text, source);
   YAML::Node root;
   try {
     root = YAML::Load(text);

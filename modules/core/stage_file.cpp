@@ -27,6 +27,8 @@ Json read_stage_file(const std::string& path, const std::string& format, int max
   } catch (const Json::parse_error& e) {
     throw InvalidInputError(path + ": not a valid " + format + " file (truncated or malformed JSON at byte " +
                             std::to_string(e.byte) + ")");
+  } catch (const Json::exception& e) {  // e.g. out_of_range 406: a number such as 1e999 overflows a double
+    throw InvalidInputError(path + ": not a valid " + format + " file (malformed JSON: " + e.what() + ")");
   }
   if (!j.is_object() || !j.contains("format") || !j["format"].is_string())
     throw InvalidInputError(path + ": not a volts stage file (no \"format\" header)");
@@ -54,7 +56,7 @@ Json read_report(const std::string& workdir) {
   if (!std::filesystem::exists(path)) return Json::object();
   try {
     return Json::parse(read_text_file(path));
-  } catch (const Json::parse_error&) {
+  } catch (const Json::exception&) {
     throw InvalidInputError(path + ": report is not valid JSON; delete it to start a fresh report");
   }
 }

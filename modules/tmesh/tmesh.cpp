@@ -105,16 +105,28 @@ TMesh from_json(const core::Json& j, const std::string& file) {
     t.degree = core::require(j, "degree", file).get<int>();
     t.knots = core::require(j, "knots", file).get<std::array<std::vector<double>, 3>>();
     t.size = core::require(j, "size", file).get<std::array<int, 3>>();
+    // The ranges of the config (tmesh.level, tmesh.degree): larger values would overflow 1 << level.
+    if (t.level < 1 || t.level > 7 || t.degree < 1 || t.degree > 5)
+      throw core::InvalidInputError(file + ": tmesh level " + std::to_string(t.level) + " or degree " +
+                                    std::to_string(t.degree) + " out of range (level 1..7, degree 1..5)");
+    for (int a = 0; a < 3; ++a) bezier::check_knot_vector(t.knots[a], t.degree, "tmesh knot vector");
+    // One control point per B-spline function: the sizes follow from the knots, so their product
+    // is bounded by the file's length.
+    for (int a = 0; a < 3; ++a)
+      if (t.size[a] != static_cast<int>(t.knots[a].size()) - t.degree - 1)
+        throw core::InvalidInputError(file + ": tmesh size " + std::to_string(t.size[a]) + " does not match its " +
+                                      std::to_string(t.knots[a].size()) + " knots of degree " + std::to_string(t.degree));
     const auto cp = core::require(j, "control_points", file).get<std::vector<double>>();
     const auto par = core::require(j, "parameters", file).get<std::vector<double>>();
     const std::size_t n = static_cast<std::size_t>(t.size[0]) * t.size[1] * t.size[2];
-    if (t.size[0] < 1 || t.size[1] < 1 || t.size[2] < 1 || cp.size() != 3 * n || par.size() != 3 * n)
+    if (cp.size() != 3 * n || par.size() != 3 * n)
       throw core::InvalidInputError(file + ": control point count does not match size");
+    for (const double x : cp)
+      if (!std::isfinite(x)) throw core::InvalidInputError(file + ": a tmesh control point is not finite");
     for (std::size_t i = 0; i < n; ++i) {
       t.control_points.push_back({cp[3 * i], cp[3 * i + 1], cp[3 * i + 2]});
       t.parameters.push_back({par[3 * i], par[3 * i + 1], par[3 * i + 2]});
     }
-    for (int a = 0; a < 3; ++a) bezier::check_knot_vector(t.knots[a], t.degree, "tmesh knot vector");
   } catch (const core::Json::exception& e) {
     throw core::InvalidInputError(file + ": malformed tmesh: " + e.what());
   }
