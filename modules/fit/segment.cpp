@@ -241,9 +241,13 @@ SixPatches six_patches(const Mesh& mesh, const SixPatchParams& params) {
     int smallest = -1;
     for (int c = 0; c < ncomp; ++c)
       if (keep[comp_label[c]] != c && (smallest < 0 || comp_area[c] < comp_area[smallest])) smallest = c;
+    // Never into the opposite direction unless it is the only neighbour (an island).
     int to = -1;
-    for (const auto& [l, len] : shared[smallest])
-      if (l != comp_label[smallest] && (to < 0 || len > shared[smallest][to])) to = l;
+    for (int pass = 0; pass < 2 && to < 0; ++pass)
+      for (const auto& [l, len] : shared[smallest])
+        if (l != comp_label[smallest] && (pass == 1 || !opposite(l, comp_label[smallest])) &&
+            (to < 0 || len > shared[smallest][to]))
+          to = l;
     for (size_t f = 0; f < nf; ++f)
       if (comp[f] == smallest) out.label[f] = to;
   }

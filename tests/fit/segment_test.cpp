@@ -96,8 +96,10 @@ TEST(SixPatches, BrokenLayoutsAreNamed) {
 // The fandisk (CAD part, 12,946 triangles) in its own axes is not cube-like by normals alone.
 // Measured: all six patches are disks (one component, one loop, V − E + F = 1 each), but their
 // sides are [5 3 6 4 4 2] instead of 4 each (+x, -x, +y, -y, +z, -z), there are 6 corners instead
-// of 8, and +y meets -y along 33 vertices (the fan's ridge). A cube layout needs a strip of a third
-// patch along that ridge and moved corners: not done yet.
+// of 8, +y meets -y along 33 vertices, and 3,419 faces (26 %) end in a patch other than their
+// nearest direction (up to 100° off) after the component merges. Neither the smoothness (0–2) nor
+// the sweeps (0–50) change this layout: it comes from the part's large features, not from noise.
+// A cube layout needs a strip of a third patch along the +y/-y contact and moved corners: not done.
 TEST(SixPatches, FandiskIsNotCubeLikeYet) {
   const surface::Mesh m = surface::read_surface(std::string(VOLTS_SHARED_MODELS) + "/c3d_fandisk.obj");
   EXPECT_THROW(six_patches(m), core::TopologyError);
@@ -115,5 +117,6 @@ TEST(SixPatches, FandiskIsNotCubeLikeYet) {
   EXPECT_EQ(l.sides, (std::array<int, 6>{5, 3, 6, 4, 4, 2}));
   EXPECT_EQ(l.corners, 6);
   EXPECT_EQ(l.opposite_vertices, 33);
+  EXPECT_LT(s.max_deviation_deg, 120.0);  // merges never go into the opposite direction
   EXPECT_FALSE(l.ok());
 }
