@@ -362,6 +362,53 @@ TEST(SolidValidity, LocalCheckSeesOnlyTheSubgridsOfOnePoint) {
   std::printf("check_solid 10x10x10 tricubic: %d sub-grids in %.2f ms\n", bv.checked, ms);
 }
 
+// check_solid_near(p) sees exactly the sub-grids holding p: its failures equal the number of
+// failing single-sub-grid nets (each checked alone) that contain p, over every point of 12 noisy
+// 7x6x5 nets of degrees (3,2,2).
+TEST(SolidValidity, LocalCheckMatchesSubgridsCheckedAlone) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int points = 0, invalid_points = 0;
+  for (int n = 0; n < 12; ++n) {
+    SolidNet net = box_net({7, 6, 5}, {3, 2, 2});
+    for (auto& x : net.points) x += 0.12 * n / 11.0 * Vector3d(unit(rng), unit(rng), unit(rng));
+    const auto& d = net.degree;
+    std::vector<char> bad;  // per sub-grid (I fastest)
+    for (int K = 0; K + d[2] < net.size[2]; ++K)
+      for (int J = 0; J + d[1] < net.size[1]; ++J)
+        for (int I = 0; I + d[0] < net.size[0]; ++I) {
+          SolidNet sub;
+          sub.size = {d[0] + 1, d[1] + 1, d[2] + 1};
+          sub.degree = d;
+          for (int k = 0; k <= d[2]; ++k)
+            for (int j = 0; j <= d[1]; ++j)
+              for (int i = 0; i <= d[0]; ++i) sub.points.push_back(net.at(I + i, J + j, K + k));
+          bad.push_back(!check_solid(sub).valid);
+        }
+    const int nI = net.size[0] - d[0], nJ = net.size[1] - d[1];
+    for (int k = 0; k < net.size[2]; ++k)
+      for (int j = 0; j < net.size[1]; ++j)
+        for (int i = 0; i < net.size[0]; ++i) {
+          int expected = 0, holding = 0;
+          for (int K = std::max(0, k - d[2]); K <= std::min(k, net.size[2] - 1 - d[2]); ++K)
+            for (int J = std::max(0, j - d[1]); J <= std::min(j, net.size[1] - 1 - d[1]); ++J)
+              for (int I = std::max(0, i - d[0]); I <= std::min(i, net.size[0] - 1 - d[0]); ++I) {
+                ++holding;
+                expected += bad[I + nI * (J + nJ * K)];
+              }
+          const Validity local = check_solid_near(net, {i, j, k});
+          ASSERT_EQ(local.checked, holding);
+          ASSERT_EQ(local.failures, expected) << n << " " << i << "," << j << "," << k;
+          ASSERT_EQ(local.valid, expected == 0);
+          ++points;
+          invalid_points += expected > 0;
+        }
+  }
+  EXPECT_EQ(points, 12 * 7 * 6 * 5);
+  EXPECT_GT(invalid_points, 50);  // the noise reaches invalid sub-grids
+  EXPECT_LT(invalid_points, points - 50);
+}
+
 TEST(SolidValidity, MalformedNetsThrow) {
   SolidNet net = box_net({4, 4, 4}, {3, 3, 3});
   net.points.pop_back();
