@@ -179,6 +179,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     Section s = top.section("split");
     s.get("extreme_points", c.split.extreme_points, 2);
     s.get("cross_section_plane", c.split.cross_section_plane, 6);
+    s.get("cross_section_point", c.split.cross_section_point, 1);
     s.get("torus_cubes", c.split.torus_cubes, 4, 16);
     s.get("hole", c.split.hole, {"auto", "torus", "difference"});
     s.finish();
@@ -310,6 +311,11 @@ std::string to_yaml(const Config& c) {
     e << YAML::EndSeq;
   }
   if (!c.split.cross_section_plane.empty()) e << YAML::Key << "cross_section_plane" << YAML::Value << YAML::Flow << c.split.cross_section_plane;
+  if (!c.split.cross_section_point.empty()) {
+    const auto& p = c.split.cross_section_point[0];
+    e << YAML::Key << "cross_section_point" << YAML::Value << YAML::Flow << YAML::BeginSeq << YAML::Flow << YAML::BeginSeq << p[0] << p[1]
+      << p[2] << YAML::EndSeq << YAML::EndSeq;
+  }
   e << YAML::Key << "torus_cubes" << YAML::Value << c.split.torus_cubes;
   e << YAML::Key << "hole" << YAML::Value << c.split.hole << YAML::EndMap;
   e << YAML::Key << "polycube" << YAML::Value << YAML::BeginMap;

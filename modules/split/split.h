@@ -36,6 +36,9 @@ struct Params {
   /// A plane (point, normal) whose section of the ring is the first cross section, instead of the
   /// harmonic field of steps 1–3. Empty: automatic [model units].
   std::vector<double> cross_section_plane;
+  /// A point the first cross section of a torus passes through (the nearest vertex's level of the
+  /// ring field; the others follow equally spaced). Empty: automatic [model units].
+  std::vector<std::array<double, 3>> cross_section_point;
   int torus_cubes = 4;          ///< cube components per torus, along the ring [4, 16]
   std::string hole = "auto";    ///< a through hole becomes: "auto" (§4.3: difference if there are sharp corners), "torus" or "difference"
 };

@@ -373,6 +373,11 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
 
   // Insert the cross sections (levels of u), then the new longitudes (levels of v).
   const int n = prm.torus_cubes;
+  double first_level = 0.5 / n;
+  if (!prm.cross_section_point.empty()) {
+    if (!protect.empty()) throw core::ConfigError("split.cross_section_point is not supported for surfaces of genus 2 yet");
+    first_level = u[nearest_vertex(mesh, prm.cross_section_point[0])];
+  }
   LabelledEdges cuts;
   IsolineOptions ou = opt, ov = opt;
   ou.period = ov.period = 1.0;
@@ -391,7 +396,7 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
   };
   for (int k = 0; k < n; ++k) {
     splits.clear();
-    auto loops = insert_isoline(mesh, u, between_vertices(level_avoiding(protect, u, k, n, 0.5 / n), u, 1.0), ou);
+    auto loops = insert_isoline(mesh, u, between_vertices(level_avoiding(protect, u, k, n, first_level), u, 1.0), ou);
     apply_splits(sharp, splits);
     apply_splits(cuts, splits);
     const auto loop = take(std::move(loops), v, "cross section " + std::to_string(k));

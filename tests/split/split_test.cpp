@@ -333,3 +333,18 @@ TEST(Split, RodIsTwoToriWithDefaults) {
   EXPECT_EQ(d.tori.size(), 2u);
   EXPECT_EQ(d.components.size(), 8u);
 }
+
+TEST(Split, CrossSectionThroughAGivenPoint) {
+  // Generated torus (axis z, R = 2, r = 0.75): the first cross section through the outermost point
+  // on +y passes within one edge of it.
+  split::Params p;
+  p.cross_section_point = {{0, 2.75, 0}};
+  const auto d = run_split(generated("torus", 16), p);
+  check_torus(d, 4);
+  double best = 1e9;
+  for (int v : d.cross_section_lines[0]) {
+    const auto& q = d.layout.points[v];
+    best = std::min(best, std::hypot(q[0], q[1] - 2.75, q[2]));
+  }
+  EXPECT_LT(best, 2 * 3.14159265 * 2.75 / 16 / 2 + 1e-9);
+}
