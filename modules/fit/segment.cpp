@@ -241,12 +241,16 @@ SixPatches six_patches(const Mesh& mesh, const SixPatchParams& params) {
     int smallest = -1;
     for (int c = 0; c < ncomp; ++c)
       if (keep[comp_label[c]] != c && (smallest < 0 || comp_area[c] < comp_area[smallest])) smallest = c;
-    // Never into the opposite direction unless it is the only neighbour (an island).
+    // Into the neighbour whose direction best fits the component's mean normal; never into the
+    // opposite direction unless it is the only neighbour (an island).
+    Vector3d mean = Vector3d::Zero();
+    for (size_t f = 0; f < nf; ++f)
+      if (comp[f] == smallest) mean += area[f] * normal[f];
     int to = -1;
     for (int pass = 0; pass < 2 && to < 0; ++pass)
       for (const auto& [l, len] : shared[smallest])
         if (l != comp_label[smallest] && (pass == 1 || !opposite(l, comp_label[smallest])) &&
-            (to < 0 || len > shared[smallest][to]))
+            (to < 0 || mean.dot(direction(l)) > mean.dot(direction(to))))
           to = l;
     for (size_t f = 0; f < nf; ++f)
       if (comp[f] == smallest) out.label[f] = to;

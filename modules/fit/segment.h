@@ -5,8 +5,10 @@
 // Method: each triangle takes the axis direction (±x, ±y, ±z) nearest its normal; a few sweeps of
 // iterated conditional modes trade normal deviation (1 − n·d) against boundary length (`smoothness`
 // per differing neighbour); then every label keeps only its largest connected component, the
-// others join the neighbouring patch they share most boundary with. No rotation is applied: the
-// model's axes are the cube's axes.
+// others (smallest first) join the neighbouring patch whose direction best fits their area-weighted
+// mean normal, never the opposite one unless it is the only neighbour. (Joining the neighbour with
+// the longest shared boundary instead put the fandisk's slanted bottom face into +y, which then
+// touched −y.) No rotation is applied: the model's axes are the cube's axes.
 //
 // Throws core::TopologyError if the surface is not genus 0, or if the result is not six disks
 // meeting like cube faces (the message: the first problem and CubeLayout::summary()).
