@@ -296,6 +296,23 @@ TEST(Locator, ExactAtVerticesSnapsNearAndRefusesFar) {
     err = std::max(err, (Eigen::Vector3d((*x)[0], (*x)[1], (*x)[2]) - m.physical[i]).norm());
   }
   EXPECT_LE(err, 1e-9);
+  // Points given by barycentric coordinates in a known tet come back at the same combination of its
+  // physical corners (the inverse of the piecewise-linear map).
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u01(0, 1);
+  std::uniform_int_distribution<int> pick(0, static_cast<int>(m.tets.size()) - 1);
+  err = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const auto& t = m.tets[pick(rng)];
+    double b[4], sum = 0;
+    for (double& x : b) sum += (x = u01(rng) + 1e-3);
+    Eigen::Vector3d uvw = Eigen::Vector3d::Zero(), xyz = Eigen::Vector3d::Zero();
+    for (int j = 0; j < 4; ++j) uvw += b[j] / sum * m.parameter[t[j]], xyz += b[j] / sum * m.physical[t[j]];
+    const auto x = loc.physical({uvw[0], uvw[1], uvw[2]});
+    ASSERT_TRUE(x.has_value());
+    err = std::max(err, (Eigen::Vector3d((*x)[0], (*x)[1], (*x)[2]) - xyz).norm());
+  }
+  EXPECT_LE(err, 1e-9);
   EXPECT_TRUE(loc.physical({0.5, 0.5, 1 + 1e-9}).has_value());
   EXPECT_TRUE(loc.physical({-1e-8, 0.3, 0.7}).has_value());
   EXPECT_FALSE(loc.physical({0.5, 0.5, 1.01}).has_value());
