@@ -1,17 +1,64 @@
 // volts-polycube: stage 3 (Liu et al. §4.2–4.3). Reads split.stage.json, builds the polycube and
 // maps the surface onto it; writes polycube.stage.json, polycube.vtp and polycube_mapped.vtp.
 #include "core/log.h"
+#include "polycube/embedding.h"
 #include "polycube/polycube.h"
+#include "volmap/volmap.h"
 #include "stage_main.h"
 #include "surface/mesh_json.h"
 
 using namespace volts;
 
+namespace {
+
+// A torus (Liu et al. §4.2, Fig. 5(b)): patch maps on the ring embedding, then the harmonic volume
+// map of the tet mesh onto it, untangled (§4.3).
+core::Json torus(pipeline::StageContext& ctx, const core::Json& j, const split::Decomposition& d) {
+  polycube::TorusSurfaceMap m;
+  {
+    core::LogSection s("surface map");
+    polycube::PatchMapParams pp;
+    pp.weights = ctx.config.polycube.weights;
+    m = polycube::map_torus_surface(d, pp);
+  }
+  if (m.flipped_surface_triangles > 0)
+    core::log_warning(std::to_string(m.flipped_surface_triangles) + " surface triangles are flipped by the map");
+  volmap::VolumeMap vm;
+  {
+    core::LogSection s("volume map");
+    volmap::Params vp;
+    vp.tetgen.max_volume_rel = ctx.config.polycube.tet_max_volume_rel;
+    vm = volmap::harmonic_volume_map(split::layout_mesh(d.layout, false), m.embedding.points, vp);
+  }
+  if (vm.flipped_tets > 0)
+    core::log_warning(std::to_string(vm.flipped_tets) + " tets stay flipped after untangling; lower polycube.tet_max_volume_rel");
+  {
+    core::LogSection s("write");
+    core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
+                           {{"kind", "torus"}, {"surface", j["surface"]}, {"classification", j["classification"]},
+                            {"decomposition", j["decomposition"]}, {"polycube", polycube::to_json(m)}, {"volume_map", volmap::to_json(vm)}});
+    polycube::write_torus_vtp(ctx.path("polycube.vtp"), d, m, false);
+    polycube::write_torus_vtp(ctx.path("polycube_mapped.vtp"), d, m, true);
+    volmap::write_vtu(ctx.path("polycube_tets.vtu"), vm);
+    volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), vm);
+  }
+  core::Json r = volmap::report_figures(vm);
+  r["cubes"] = d.components.size();
+  r["tori"] = 1;
+  r["virtual_components"] = 0;
+  r["flipped_surface_triangles"] = m.flipped_surface_triangles;
+  r["max_angle_distortion_deg"] = m.max_angle_distortion_deg;
+  return r;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   return pipeline::run_stage(argc, argv, "polycube",
       "Stage 3 (Liu et al. 2013 §4.2-4.3): build the polycube and map the surface onto it\n"
       "(bijective disk map per patch). Input: DIR/split.stage.json. Output: DIR/polycube.stage.json,\n"
-      "DIR/polycube.vtp (surface with cube coordinates 'uvw'), DIR/polycube_mapped.vtp (the surface on the cube).",
+      "DIR/polycube.vtp (surface with cube coordinates 'uvw'), DIR/polycube_mapped.vtp (the surface on the cube);\n"
+      "tori also DIR/polycube_tets.vtu and DIR/polycube_tets_mapped.vtu (the volume map's tets, physical and mapped).",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("split");
         const core::Json j = core::read_stage_file(in, "volts-split", 2);
@@ -21,6 +68,7 @@ int main(int argc, char** argv) {
         const split::Decomposition d = split::from_json(core::require(j, "decomposition", in), in);
         pipeline::check_classification(in, mesh, c);
         pipeline::check_decomposition(in, c, d);
+        if (d.tori.size() == 1 && d.components.size() == d.tori[0].components.size()) return torus(ctx, j, d);
         polycube::Polycube p;
         {
           core::LogSection s("surface map");
@@ -30,8 +78,8 @@ int main(int argc, char** argv) {
           core::log_warning(std::to_string(p.flipped_surface_triangles) + " surface triangles are flipped by the map");
         {
           core::LogSection s("write");
-          core::write_stage_file(ctx.output_file(), "volts-polycube", 1,
-                                 {{"surface", j["surface"]}, {"classification", j["classification"]},
+          core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
+                                 {{"kind", "cube"}, {"surface", j["surface"]}, {"classification", j["classification"]},
                                   {"decomposition", j["decomposition"]}, {"polycube", polycube::to_json(p)}});
           polycube::write_vtp(ctx.path("polycube.vtp"), mesh, c, p);
           polycube::write_mapped_vtp(ctx.path("polycube_mapped.vtp"), mesh, c, p);

@@ -15,7 +15,10 @@ int main(int argc, char** argv) {
       "(octree elements with level and scaled_jacobian).",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("polycube");
-        const core::Json j = core::read_stage_file(in, "volts-polycube", 1);
+        const core::Json j = core::read_stage_file(in, "volts-polycube", 2);
+        if (j.value("kind", "cube") != "cube")
+          throw core::TopologyError("tmesh: the T-mesh of a " + j.value("kind", std::string("?")) +
+                                    " polycube is not implemented yet (issue 7); set `route: tet` to mesh this model");
         pipeline::check_integer_members(in, j);
         const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
         const classify::Classification c = classify::from_json(core::require(j, "classification", in), in);

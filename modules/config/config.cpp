@@ -187,6 +187,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
   {
     Section s = top.section("polycube");
     s.get("weights", c.polycube.weights, {"mean-value", "uniform"});
+    s.get("tet_max_volume_rel", c.polycube.tet_max_volume_rel, 1e-6, 1.0);
     s.finish();
   }
   {
@@ -319,7 +320,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "torus_cubes" << YAML::Value << c.split.torus_cubes;
   e << YAML::Key << "hole" << YAML::Value << c.split.hole << YAML::EndMap;
   e << YAML::Key << "polycube" << YAML::Value << YAML::BeginMap;
-  e << YAML::Key << "weights" << YAML::Value << c.polycube.weights << YAML::EndMap;
+  e << YAML::Key << "weights" << YAML::Value << c.polycube.weights;
+  e << YAML::Key << "tet_max_volume_rel" << YAML::Value << c.polycube.tet_max_volume_rel << YAML::EndMap;
   e << YAML::Key << "tmesh" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "level" << YAML::Value << c.tmesh.level;
   e << YAML::Key << "degree" << YAML::Value << c.tmesh.degree << YAML::EndMap;

@@ -1,10 +1,12 @@
 #include "polycube/embedding.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 
 #include "core/errors.h"
+#include "viz/viz.h"
 
 namespace volts::polycube {
 
@@ -102,6 +104,50 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
     e.points = place();
   }
   return e;
+}
+
+TorusSurfaceMap map_torus_surface(const split::Decomposition& d, const PatchMapParams& params) {
+  TorusSurfaceMap m;
+  const auto maps = map_patches(d, params);
+  m.embedding = embed_torus(d, maps);
+  for (const auto& p : maps) {
+    m.flipped_surface_triangles += p.flipped_triangles;
+    m.max_angle_distortion_deg = std::max(m.max_angle_distortion_deg, p.max_angle_distortion_deg);
+  }
+  return m;
+}
+
+core::Json to_json(const TorusSurfaceMap& m) {
+  std::vector<double> pts, cells;
+  for (const auto& p : m.embedding.points) pts.insert(pts.end(), p.begin(), p.end());
+  for (const auto& c : m.embedding.cells)
+    for (const auto& p : c) cells.insert(cells.end(), p.begin(), p.end());
+  return core::Json{{"kind", "torus"},
+                    {"points", pts},
+                    {"cells", cells},
+                    {"corner_vertex", m.embedding.corner_vertex},
+                    {"flipped_surface_triangles", m.flipped_surface_triangles},
+                    {"max_angle_distortion_deg", m.max_angle_distortion_deg}};
+}
+
+void write_torus_vtp(const std::string& path, const split::Decomposition& d, const TorusSurfaceMap& m, bool mapped) {
+  const split::Layout& L = d.layout;
+  std::vector<int> comp(L.triangles.size(), -1);
+  for (std::size_t c = 0; c < d.components.size(); ++c)
+    for (int p : d.components[c].patches)
+      for (int t : L.patches[p].triangles) comp[t] = static_cast<int>(c);
+  viz::PolyData v;
+  v.points = mapped ? m.embedding.points : L.points;
+  viz::Field other{mapped ? "xyz" : "uvw", 3, {}}, cf{"component_id", 1, {}};
+  for (const auto& p : mapped ? L.points : m.embedding.points) other.values.insert(other.values.end(), p.begin(), p.end());
+  for (std::size_t t = 0; t < L.triangles.size(); ++t) {
+    if (L.filled[t]) continue;
+    v.polys.push_back({L.triangles[t][0], L.triangles[t][1], L.triangles[t][2]});
+    cf.values.push_back(comp[t]);
+  }
+  v.point_fields = {other};
+  v.cell_fields = {cf};
+  viz::write_vtp(path, v);
 }
 
 }  // namespace volts::polycube

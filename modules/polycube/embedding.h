@@ -9,7 +9,10 @@
 #pragma once
 
 #include <array>
+#include <string>
 #include <vector>
+
+#include "core/stage_file.h"
 
 #include "polycube/patch_map.h"
 #include "split/split.h"
@@ -31,5 +34,20 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
 
 /// The embedding point of local coordinates abc in component k (trilinear in its prism).
 std::array<double, 3> cell_point(const Embedding& e, int component, const std::array<double, 3>& abc);
+
+/// The surface map of a torus decomposition: patch maps placed on the ring embedding.
+struct TorusSurfaceMap {
+  Embedding embedding;
+  int flipped_surface_triangles = 0;
+  double max_angle_distortion_deg = 0;
+};
+TorusSurfaceMap map_torus_surface(const split::Decomposition& d, const PatchMapParams& params);
+
+/// Stage-file payload: {"kind": "torus", "cells", "corner_vertex", "points", figures}.
+core::Json to_json(const TorusSurfaceMap& m);
+
+/// ParaView views: the segmented surface with the embedding point `uvw` per point and
+/// `component_id` per cell, drawn at its physical positions, or (mapped) at its embedding.
+void write_torus_vtp(const std::string& path, const split::Decomposition& d, const TorusSurfaceMap& m, bool mapped);
 
 }  // namespace volts::polycube

@@ -25,6 +25,9 @@ namespace volts::polycube {
 struct Params {
   /// Interior weights of the disk map: "mean-value" (Floater 2003) or "uniform" (Tutte 1963).
   std::string weights = "mean-value";
+  /// Volume map of tori (volmap): largest tet / volume of the solid. With TetGen's default sizes
+  /// untangling left flipped tets at the ring's reentrant edges (docs/status.md) [1e-6, 1].
+  double tet_max_volume_rel = 1e-3;
 };
 
 /// The polycube (so far one unit cube) and the surface map onto it.
