@@ -67,8 +67,9 @@ struct ValidityParams {
   /// Stop at the first failing sub-net (a fitting loop's rejected trial move); margin and
   /// failures then cover only the sub-nets checked.
   bool stop_at_first_failure = false;
-  /// Prop. 3 only: test all d_u(d_v+1)(d_w+1) · ... triples instead of the extreme directions of
-  /// each family (same verdict; the reference the tests compare with).
+  /// Prop. 3 only: test every triple (a family has d_u(d_v+1)(d_w+1) differences for u: 48³
+  /// triples for tricubic) instead of the extreme directions of each family (same verdict; the
+  /// reference the tests compare with).
   bool exhaustive = false;
 };
 
