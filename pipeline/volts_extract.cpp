@@ -1,5 +1,6 @@
 // volts-extract: stage 5 (Liu et al. §5.3, §6). Reads tmesh.stage.json, builds the spline,
 // extracts its Bézier elements, measures them; writes bezier.vtu.
+#include "core/errors.h"
 #include "core/log.h"
 #include "extract/extract.h"
 #include "stage_main.h"
@@ -14,10 +15,15 @@ int main(int argc, char** argv) {
       "raise 'Nonlinear Subdivision Level' to see the curved elements).",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("tmesh");
-        const core::Json j = core::read_stage_file(in, "volts-tmesh", 1);
+        const core::Json j = core::read_stage_file(in, "volts-tmesh", 2);
         pipeline::check_integer_members(in, j);
         const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
-        const tmesh::TMesh t = tmesh::from_json(core::require(j, "tmesh", in), in);
+        std::vector<tmesh::TMesh> t;
+        try {
+          for (const auto& x : core::require(j, "tmeshes", in)) t.push_back(tmesh::from_json(x, in));
+        } catch (const core::Json::exception& e) {
+          throw core::InvalidInputError(in + ": malformed tmeshes: " + e.what());
+        }
         const extract::Result r = extract::extract(t, mesh, ctx.config.extract);
         const std::string out = ctx.output.empty() ? ctx.path("bezier.vtu") : ctx.output;
         {

@@ -16,21 +16,40 @@ namespace volts::extract {
 
 using surface::Mesh;
 
-Result extract(const tmesh::TMesh& t, const Mesh& surface, const Params& params) {
+Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const Params& params) {
   if (params.gauss_points < 0 || params.gauss_points > 10) throw core::ConfigError("extract.gauss_points must be in [0, 10]");
   if (params.boundary_samples < 2 || params.boundary_samples > 64) throw core::ConfigError("extract.boundary_samples must be in [2, 64]");
+  if (ts.empty()) throw core::InvalidInputError("extract: no T-mesh");
   Result r;
-  r.degree = t.degree;
+  r.degree = ts[0].degree;
+  std::vector<quality::BoundaryFace> boundary;
   {
     core::LogSection s("Bézier extraction");
-    bezier::TensorBSplineVolume vol;
-    vol.degree = {t.degree, t.degree, t.degree};
-    vol.knots = t.knots;
-    for (const auto& p : t.control_points) vol.points.emplace_back(p[0], p[1], p[2]);
-    r.hexes = bezier::extract_bezier_hexes(vol);
+    for (const auto& t : ts) {
+      if (t.degree != r.degree) throw core::InvalidInputError("extract: the cubes' T-meshes have different degrees");
+      bezier::TensorBSplineVolume vol;
+      vol.degree = {t.degree, t.degree, t.degree};
+      vol.knots = t.knots;
+      for (const auto& p : t.control_points) vol.points.emplace_back(p[0], p[1], p[2]);
+      const auto hexes = bezier::extract_bezier_hexes(vol);
+      // Elements are ordered i fastest over the tensor grid of knot spans; boundary faces are those
+      // on the first or last span in some direction, on a cube face that is on the surface.
+      const int n[3] = {static_cast<int>(bezier::element_spans(t.knots[0], t.degree).size()),
+                        static_cast<int>(bezier::element_spans(t.knots[1], t.degree).size()),
+                        static_cast<int>(bezier::element_spans(t.knots[2], t.degree).size())};
+      const int ne = static_cast<int>(hexes.size());
+      if (n[0] * n[1] * n[2] != ne) throw core::NumericalError("extract: element count does not match the knot spans");
+      const int offset = static_cast<int>(r.hexes.size());
+      for (int e = 0; e < ne; ++e) {
+        const int idx[3] = {e % n[0], (e / n[0]) % n[1], e / (n[0] * n[1])};
+        for (int axis = 0; axis < 3; ++axis)
+          for (int side = 0; side < 2; ++side)
+            if (t.boundary[2 * axis + side] && idx[axis] == (side ? n[axis] - 1 : 0)) boundary.push_back({offset + e, axis, side});
+      }
+      r.hexes.insert(r.hexes.end(), hexes.begin(), hexes.end());
+    }
   }
-  const int ne = static_cast<int>(r.hexes.size());
-  const int gp = params.gauss_points > 0 ? params.gauss_points : t.degree + 1;
+  const int gp = params.gauss_points > 0 ? params.gauss_points : r.degree + 1;
   {
     core::LogSection s("scaled Jacobian at corners and Gauss points");
     quality::ScaledJacobian sj = quality::scaled_jacobian(r.hexes, gp);
@@ -54,23 +73,10 @@ Result extract(const tmesh::TMesh& t, const Mesh& surface, const Params& params)
   }
   {
     core::LogSection s("boundary deviation and volume");
-    // Elements are ordered i fastest over the tensor grid of knot spans; boundary faces are those
-    // on the first or last span in some direction.
-    const int n[3] = {static_cast<int>(bezier::element_spans(t.knots[0], t.degree).size()),
-                      static_cast<int>(bezier::element_spans(t.knots[1], t.degree).size()),
-                      static_cast<int>(bezier::element_spans(t.knots[2], t.degree).size())};
-    if (n[0] * n[1] * n[2] != ne) throw core::NumericalError("extract: element count does not match the knot spans");
-    std::vector<quality::BoundaryFace> boundary;
-    for (int e = 0; e < ne; ++e) {
-      const int idx[3] = {e % n[0], (e / n[0]) % n[1], e / (n[0] * n[1])};
-      for (int axis = 0; axis < 3; ++axis)
-        for (int side = 0; side < 2; ++side)
-          if (idx[axis] == (side ? n[axis] - 1 : 0)) boundary.push_back({e, axis, side});
-    }
     quality::BoundaryDeviation dev = quality::boundary_deviation(r.hexes, boundary, surface, params.boundary_samples);
     r.boundary_distance = std::move(dev.per_element);
     r.hausdorff_rel = dev.rel;
-    const quality::Volume v = quality::volume(r.hexes, surface, std::max({t.degree, 1}) + 2);
+    const quality::Volume v = quality::volume(r.hexes, surface, std::max({r.degree, 1}) + 2);
     r.spline_volume = v.elements, r.surface_volume = v.surface, r.volume_rel_error = v.rel_error;
   }
   return r;

@@ -42,8 +42,9 @@ struct Result {
   double volume_rel_error = 0;  ///< |spline_volume - surface_volume| / surface_volume
 };
 
-/// Extracts the Bézier elements of the spline of `t` and measures them against the input `surface`.
-Result extract(const tmesh::TMesh& t, const surface::Mesh& surface, const Params& params);
+/// Extracts the Bézier elements of the splines of the cubes `t` (all of one degree) and measures them
+/// against the input `surface`; boundary deviation is sampled on the cube faces marked boundary.
+Result extract(const std::vector<tmesh::TMesh>& t, const surface::Mesh& surface, const Params& params);
 
 /// Report keys: bezier_elements, degree, min_scaled_jacobian, max_scaled_jacobian, hausdorff_rel,
 /// volume_rel_error (+ spline_volume, surface_volume), certified_valid, certified_invalid,

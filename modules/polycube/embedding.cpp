@@ -16,12 +16,8 @@ using Vec3 = std::array<double, 3>;
 }  // namespace
 
 std::array<double, 3> cell_point(const Embedding& e, int k, const std::array<double, 3>& x) {
-  Vec3 r{0, 0, 0};
-  for (int corner = 0; corner < 8; ++corner) {
-    const double w = (corner & 1 ? x[0] : 1 - x[0]) * (corner & 2 ? x[1] : 1 - x[1]) * (corner & 4 ? x[2] : 1 - x[2]);
-    for (int i = 0; i < 3; ++i) r[i] += w * e.cells[k][corner][i];
-  }
-  return r;
+  const double theta = 2 * kPi * (k + x[0]) / e.ring, r = 1.0 + x[1];
+  return {r * std::cos(theta), r * std::sin(theta), e.mirrored ? 1.0 - x[2] : x[2]};
 }
 
 Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>& maps) {
@@ -30,15 +26,12 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
                               std::to_string(d.tori.size()) + " tori and " + std::to_string(d.components.size()) + " components)");
   const int n = static_cast<int>(d.components.size());
   Embedding e;
+  e.ring = n;
   e.cells.resize(n);
   e.corner_vertex.resize(n);
   // Local corner (a, b, c) of cube k: the square corner q_i of the cross section is (b, c) =
   // (0,0), (1,0), (1,1), (0,1) for corner line i = 0..3, and faces[i].corners = {(0,q_i), (1,q_i), ...}.
   static const int qb[4] = {0, 1, 1, 0}, qc[4] = {0, 0, 1, 1};
-  auto spoke = [&](int k, int b, int c) {
-    const double theta = 2 * kPi * k / n, r = 1.0 + b;
-    return Vec3{r * std::cos(theta), r * std::sin(theta), static_cast<double>(c)};
-  };
   for (int k = 0; k < n; ++k) {
     const auto& comp = d.components[d.tori[0].components[k]];
     if (comp.faces.size() != 6) throw core::TopologyError("polycube: component " + std::to_string(k) + " has not six faces");
@@ -50,7 +43,7 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
       for (int a = 0; a < 2; ++a) {
         const int corner = a + 2 * qb[i] + 4 * qc[i];
         e.corner_vertex[k][corner] = comp.faces[i].corners[a];
-        e.cells[k][corner] = spoke(k + a, qb[i], qc[i]);
+        e.cells[k][corner] = cell_point(e, k, {double(a), double(qb[i]), double(qc[i])});
       }
   }
   // Mirror if the embedded surface has the other orientation than the physical one.
@@ -99,10 +92,18 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
   };
   e.points = place();
   if (signed_volume(e.points) < 0) {
+    e.mirrored = true;
     for (auto& cell : e.cells)
       for (auto& x : cell) x[2] = 1 - x[2];
     e.points = place();
   }
+  for (const auto& t : L.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 &p = e.points[t[k]], &q = e.points[t[(k + 1) % 3]];
+      const Vec3 m{(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2};
+      const double r = std::hypot(m[0], m[1]);
+      e.boundary_gap = std::max(e.boundary_gap, std::min({std::abs(r - 1), std::abs(r - 2), std::abs(m[2]), std::abs(m[2] - 1)}));
+    }
   return e;
 }
 
@@ -123,6 +124,9 @@ core::Json to_json(const TorusSurfaceMap& m) {
   for (const auto& c : m.embedding.cells)
     for (const auto& p : c) cells.insert(cells.end(), p.begin(), p.end());
   return core::Json{{"kind", "torus"},
+                    {"ring", m.embedding.ring},
+                    {"mirrored", m.embedding.mirrored},
+                    {"boundary_gap", m.embedding.boundary_gap},
                     {"points", pts},
                     {"cells", cells},
                     {"corner_vertex", m.embedding.corner_vertex},

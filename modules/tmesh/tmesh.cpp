@@ -1,6 +1,7 @@
 #include "tmesh/tmesh.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -32,6 +33,10 @@ Eigen::MatrixXd collocation(const std::vector<double>& knots, int degree, const 
 }  // namespace
 
 TMesh build(const polycube::VolumeMap& map, const Params& params) {
+  return build(PointMap([&](const Vec3& x) { return map(x); }), params);
+}
+
+TMesh build(const PointMap& map, const Params& params) {
   if (params.level < 1 || params.level > 7) throw core::ConfigError("tmesh.level must be in [1, 7], got " + std::to_string(params.level));
   if (params.degree < 1 || params.degree > 5) throw core::ConfigError("tmesh.degree must be in [1, 5], got " + std::to_string(params.degree));
   TMesh t;
@@ -95,7 +100,7 @@ core::Json to_json(const TMesh& t) {
   for (const auto& p : t.control_points) cp.insert(cp.end(), p.begin(), p.end());
   for (const auto& p : t.parameters) par.insert(par.end(), p.begin(), p.end());
   return core::Json{{"level", t.level}, {"degree", t.degree}, {"knots", t.knots}, {"size", t.size},
-                    {"control_points", cp}, {"parameters", par}};
+                    {"control_points", cp}, {"parameters", par}, {"boundary", t.boundary}, {"component", t.component}};
 }
 
 TMesh from_json(const core::Json& j, const std::string& file) {
@@ -116,6 +121,8 @@ TMesh from_json(const core::Json& j, const std::string& file) {
       if (t.size[a] != static_cast<int>(t.knots[a].size()) - t.degree - 1)
         throw core::InvalidInputError(file + ": tmesh size " + std::to_string(t.size[a]) + " does not match its " +
                                       std::to_string(t.knots[a].size()) + " knots of degree " + std::to_string(t.degree));
+    if (j.contains("boundary")) t.boundary = j["boundary"].get<std::array<int, 6>>();
+    if (j.contains("component")) t.component = j["component"].get<int>();
     const auto cp = core::require(j, "control_points", file).get<std::vector<double>>();
     const auto par = core::require(j, "parameters", file).get<std::vector<double>>();
     const std::size_t n = static_cast<std::size_t>(t.size[0]) * t.size[1] * t.size[2];
@@ -133,12 +140,21 @@ TMesh from_json(const core::Json& j, const std::string& file) {
   return t;
 }
 
-core::Json report_figures(const TMesh& t, double min_sj) {
-  const int n = 1 << t.level;
-  return core::Json{{"nodes", t.control_points.size()},
-                    {"octree_nodes", (n + 1) * (n + 1) * (n + 1)},
-                    {"elements", t.elements()},
-                    {"max_level", t.level},
+core::Json report_figures(const std::vector<TMesh>& ts, double min_sj) {
+  std::size_t nodes = 0, octree_nodes = 0;
+  int elements = 0, level = 0;
+  for (const auto& t : ts) {
+    const std::size_t n = static_cast<std::size_t>(1) << t.level;
+    nodes += t.control_points.size();
+    octree_nodes += (n + 1) * (n + 1) * (n + 1);
+    elements += t.elements();
+    level = std::max(level, t.level);
+  }
+  return core::Json{{"nodes", nodes},
+                    {"octree_nodes", octree_nodes},
+                    {"cubes", ts.size()},
+                    {"elements", elements},
+                    {"max_level", level},
                     {"irregular_nodes_surface", 0},
                     {"irregular_nodes_interior", 0},
                     {"min_scaled_jacobian_before", min_sj},
@@ -146,29 +162,38 @@ core::Json report_figures(const TMesh& t, double min_sj) {
 }
 
 double write_vtu(const std::string& path, const TMesh& t, const polycube::VolumeMap& map) {
-  const int n = 1 << t.level;
+  return write_vtu(path, std::vector<TMesh>{t}, {PointMap([&](const Vec3& x) { return map(x); })});
+}
+
+double write_vtu(const std::string& path, const std::vector<TMesh>& ts, const std::vector<PointMap>& maps) {
   viz::UnstructuredGrid g;
-  auto node = [&](int i, int j, int k) { return i + (n + 1) * (j + (n + 1) * k); };
-  for (int k = 0; k <= n; ++k)
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) g.points.push_back(map({double(i) / n, double(j) / n, double(k) / n}));
-  viz::Field level{"level", 1, {}}, sj{"scaled_jacobian", 1, {}};
+  viz::Field level{"level", 1, {}}, sj{"scaled_jacobian", 1, {}}, comp{"component", 1, {}};
   double worst = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        std::vector<int> c = {node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k),
-                              node(i, j, k + 1), node(i + 1, j, k + 1), node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1)};
-        std::array<Vec3, 8> x;
-        for (int a = 0; a < 8; ++a) x[a] = g.points[c[a]];
-        const double s = trilinear_min_scaled_jacobian(x);
-        worst = std::min(worst, s);
-        g.cells.push_back(c);
-        g.cell_types.push_back(12);  // VTK_HEXAHEDRON
-        level.values.push_back(t.level);
-        sj.values.push_back(s);
-      }
-  g.cell_fields = {level, sj};
+  for (std::size_t c = 0; c < ts.size(); ++c) {
+    const TMesh& t = ts[c];
+    const int n = 1 << t.level;
+    const int base = static_cast<int>(g.points.size());
+    auto node = [&](int i, int j, int k) { return base + i + (n + 1) * (j + (n + 1) * k); };
+    for (int k = 0; k <= n; ++k)
+      for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) g.points.push_back(maps[c]({double(i) / n, double(j) / n, double(k) / n}));
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          std::vector<int> cell = {node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k),
+                                   node(i, j, k + 1), node(i + 1, j, k + 1), node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1)};
+          std::array<Vec3, 8> x;
+          for (int a = 0; a < 8; ++a) x[a] = g.points[cell[a]];
+          const double s = trilinear_min_scaled_jacobian(x);
+          worst = std::min(worst, s);
+          g.cells.push_back(cell);
+          g.cell_types.push_back(12);  // VTK_HEXAHEDRON
+          level.values.push_back(t.level);
+          sj.values.push_back(s);
+          comp.values.push_back(t.component);
+        }
+  }
+  g.cell_fields = {level, sj, comp};
   viz::write_vtu(path, g);
   return worst;
 }

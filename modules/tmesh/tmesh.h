@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,12 +33,19 @@ struct TMesh {
   std::array<int, 3> size{0, 0, 0};                    ///< control points per direction
   std::vector<std::array<double, 3>> control_points;   ///< index i + size0*(j + size1*k)
   std::vector<std::array<double, 3>> parameters;       ///< Greville point of each control point
+  /// Per cube face 2*axis + side: 1 if it lies on the input surface (0: shared with another cube).
+  std::array<int, 6> boundary{1, 1, 1, 1, 1, 1};
+  int component = 0;                                   ///< the split component (cube) it belongs to
   int elements() const;
 };
+
+/// A map from the unit cube's parameters to physical space.
+using PointMap = std::function<std::array<double, 3>(const std::array<double, 3>&)>;
 
 /// Builds the control mesh by interpolating `map` at the Greville points. Throws core::ConfigError
 /// for parameters out of range.
 TMesh build(const polycube::VolumeMap& map, const Params& params);
+TMesh build(const PointMap& map, const Params& params);
 
 /// Scaled Jacobian of a trilinear hexahedron at its 8 corners (Liu et al. eq. (1)–(2)); corners in
 /// VTK order. Returns the minimum.
@@ -45,10 +53,12 @@ double trilinear_min_scaled_jacobian(const std::array<std::array<double, 3>, 8>&
 
 core::Json to_json(const TMesh& t);
 TMesh from_json(const core::Json& j, const std::string& file);
-core::Json report_figures(const TMesh& t, double min_scaled_jacobian);
+core::Json report_figures(const std::vector<TMesh>& t, double min_scaled_jacobian);
 
 /// ParaView view: the octree elements as trilinear hexes at their mapped corners, with `level` and
 /// `scaled_jacobian` per cell. Returns the minimum scaled Jacobian of these elements.
 double write_vtu(const std::string& path, const TMesh& t, const polycube::VolumeMap& map);
+/// The same for several cubes, each with its own map; cell field `component` added.
+double write_vtu(const std::string& path, const std::vector<TMesh>& t, const std::vector<PointMap>& maps);
 
 }  // namespace volts::tmesh

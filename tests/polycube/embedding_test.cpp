@@ -34,8 +34,8 @@ void check(const std::string& name, int cubes) {
   const auto maps = polycube::map_patches(d, {});
   const auto e = polycube::embed_torus(d, maps);
   EXPECT_LT(e.max_mismatch, 1e-12) << name;
-  // Every vertex on its annulus: radius in [1, 2] (up to the polygon's straight edges), height in [0, 1].
-  const double inner = std::cos(3.14159265358979 / cubes);
+  // Every vertex on its annulus: radius in [1, 2], height in [0, 1].
+  const double inner = 1.0;
   for (const auto& p : e.points) {
     ASSERT_TRUE(std::isfinite(p[0]));
     const double r = std::hypot(p[0], p[1]);
@@ -44,9 +44,8 @@ void check(const std::string& name, int cubes) {
     EXPECT_GE(p[2], -1e-12);
     EXPECT_LE(p[2], 1 + 1e-12);
   }
-  // Tets of at most 1/1000 of the volume: with TetGen's default sizes (only the radius-edge bound)
-  // untangling left 5 (generated) and 1 (cinolib) of 19 flipped tets at the ring's reentrant
-  // inner edges with 4 cubes; with this bound none (measured; 6 cubes: none either way).
+  // Tets of at most 1/1000 of the volume, the polycube stage's default (a polygonal ring with
+  // TetGen's default sizes kept flipped tets at its reentrant inner edges).
   volmap::Params vp;
   vp.tetgen.max_volume_rel = 1e-3;
   const auto vm = volmap::harmonic_volume_map(split::layout_mesh(d.layout, false), e.points, vp);
@@ -54,7 +53,10 @@ void check(const std::string& name, int cubes) {
   std::printf("[ info ] %s, %d cubes: %zu tets, flipped %d before untangling, %d after, min volume ratio %.3g\n", name.c_str(), cubes,
               vm.tets.size(), vm.flipped_tets_before_untangling, vm.flipped_tets, vm.min_volume_ratio);
   // Random points of every cube's prism have a physical image.
-  const volmap::Locator locate(vm);
+  Eigen::Vector3d lo = vm.parameter.at(0), hi = lo;
+  for (const auto& p : vm.parameter) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  EXPECT_LT(e.boundary_gap, 0.01) << "chords of the round ring";
+  const volmap::Locator locate(vm, 2 * e.boundary_gap / (hi - lo).norm());
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   int missing = 0;
