@@ -37,7 +37,9 @@ inline void read_input(const std::string& kind, const std::string& path) {
   } else if (kind.rfind("stage_", 0) == 0) {
     // The header check, the payload readers and the cross-checks the next stage runs, in order.
     const std::string stage = kind.substr(6);
-    const core::Json j = core::read_stage_file(path, "volts-" + stage, 1);
+    // The newest version each reading executable accepts (pipeline/volts_<next stage>.cpp).
+    const int version = stage == "split" || stage == "polycube" ? 2 : 1;
+    const core::Json j = core::read_stage_file(path, "volts-" + stage, version);
     pipeline::check_integer_members(path, j);
     const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", path), path);
     if (stage == "tmesh") {

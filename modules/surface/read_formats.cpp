@@ -250,9 +250,46 @@ void check_off_lines(const std::string& path, const std::string& text, std::size
   problems.raise(path);
 }
 
+/// Hand-written pre-scan of the header counts: CGAL's OFF header scanner computes 2 * edges and
+/// int((vertices + faces + 10) * 2.1) in int, undefined for huge counts (found by fuzz_off). So the
+/// counts are read here first and refused when the machine cannot hold them or when that
+/// arithmetic would overflow.
+void check_off_header_counts(const std::string& path, std::string_view text) {
+  std::vector<std::string_view> tokens;  // keyword (optional), [dimension,] vertices, faces, edges
+  for (std::size_t pos = 0; tokens.size() < 5 && pos < text.size();) {
+    const char c = text[pos];
+    if (std::isspace(static_cast<unsigned char>(c))) {
+      ++pos;
+    } else if (c == '#') {
+      pos = std::min(text.find('\n', pos), text.size());
+    } else {
+      const std::size_t end = std::min(text.find_first_of(" \t\r\n\f\v#", pos), text.size());
+      tokens.push_back(text.substr(pos, end - pos));
+      pos = end;
+    }
+  }
+  std::size_t first = 0;
+  if (!tokens.empty() && tokens[0].size() >= 3 && tokens[0].substr(tokens[0].size() - 3) == "OFF") {
+    first = 1;
+    if (tokens.size() > 1 && tokens[1] == "BINARY")
+      fail(path, "binary OFF is not supported, use ASCII OFF or PLY (" + quote(line_at(text, 0)) + ")");
+    if (tokens[0].find('n') != npos) first = 2;  // nOFF: a dimension comes first
+  }
+  long long count[3] = {0, 0, 0};
+  for (std::size_t k = 0; k < 3; ++k)
+    if (first + k >= tokens.size() || !parse_integer(tokens[first + k], count[k])) return;  // CGAL reports it
+  if (count[0] > 0) core::check_declared_count(path, static_cast<std::size_t>(count[0]), "vertices", kBytesPerVertex);
+  if (count[1] > 0) core::check_declared_count(path, static_cast<std::size_t>(count[1]), "faces", kBytesPerFace);
+  constexpr long long kMaxItems = 1000000000;  // (vertices + faces + 10) * 2.1 stays below INT_MAX
+  if (count[0] + count[1] > kMaxItems || count[2] > INT_MAX / 2 || count[2] < -(INT_MAX / 2))
+    fail(path, "malformed OFF header: counts " + std::to_string(count[0]) + " " + std::to_string(count[1]) + " " +
+                   std::to_string(count[2]) + " out of range (vertices + faces at most " + std::to_string(kMaxItems) + ")");
+}
+
 }  // namespace
 
 RawSoup parse_off(const std::string& path, const std::string& text) {
+  check_off_header_counts(path, text);
   std::istringstream in(text);
   const CGAL::File_scanner_OFF header(in, /*verbose=*/false);
   if (in.fail())
