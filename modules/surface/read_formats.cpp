@@ -250,13 +250,26 @@ void check_off_lines(const std::string& path, const std::string& text, std::size
   problems.raise(path);
 }
 
+/// The integer a stream's >> would read from the start of `token` (sign, digits), saturated at 2^40.
+bool leading_integer(std::string_view token, long long& value) {
+  std::size_t i = 0;
+  const bool negative = !token.empty() && token[0] == '-';
+  if (!token.empty() && (token[0] == '+' || token[0] == '-')) ++i;
+  if (i >= token.size() || !std::isdigit(static_cast<unsigned char>(token[i]))) return false;
+  long long v = 0;
+  for (; i < token.size() && std::isdigit(static_cast<unsigned char>(token[i])); ++i)
+    v = std::min(v * 10 + (token[i] - '0'), 1LL << 40);
+  value = negative ? -v : v;
+  return true;
+}
+
 /// Hand-written pre-scan of the header counts: CGAL's OFF header scanner computes 2 * edges and
 /// int((vertices + faces + 10) * 2.1) in int, undefined for huge counts (found by fuzz_off). So the
-/// counts are read here first and refused when the machine cannot hold them or when that
-/// arithmetic would overflow.
+/// first tokens of the file are read here first: counts the machine cannot hold are refused by
+/// name, and any number there beyond kMaxCount (whatever CGAL takes it for) as malformed.
 void check_off_header_counts(const std::string& path, std::string_view text) {
   std::vector<std::string_view> tokens;  // keyword (optional), [dimension,] vertices, faces, edges
-  for (std::size_t pos = 0; tokens.size() < 5 && pos < text.size();) {
+  for (std::size_t pos = 0; tokens.size() < 6 && pos < text.size();) {
     const char c = text[pos];
     if (std::isspace(static_cast<unsigned char>(c))) {
       ++pos;
@@ -275,15 +288,17 @@ void check_off_header_counts(const std::string& path, std::string_view text) {
       fail(path, "binary OFF is not supported, use ASCII OFF or PLY (" + quote(line_at(text, 0)) + ")");
     if (tokens[0].find('n') != npos) first = 2;  // nOFF: a dimension comes first
   }
-  long long count[3] = {0, 0, 0};
-  for (std::size_t k = 0; k < 3; ++k)
-    if (first + k >= tokens.size() || !parse_integer(tokens[first + k], count[k])) return;  // CGAL reports it
-  if (count[0] > 0) core::check_declared_count(path, static_cast<std::size_t>(count[0]), "vertices", kBytesPerVertex);
-  if (count[1] > 0) core::check_declared_count(path, static_cast<std::size_t>(count[1]), "faces", kBytesPerFace);
-  constexpr long long kMaxItems = 1000000000;  // (vertices + faces + 10) * 2.1 stays below INT_MAX
-  if (count[0] + count[1] > kMaxItems || count[2] > INT_MAX / 2 || count[2] < -(INT_MAX / 2))
-    fail(path, "malformed OFF header: counts " + std::to_string(count[0]) + " " + std::to_string(count[1]) + " " +
-                   std::to_string(count[2]) + " out of range (vertices + faces at most " + std::to_string(kMaxItems) + ")");
+  long long count = 0;
+  const char* const what[2] = {"vertices", "faces"};
+  const std::size_t bytes[2] = {kBytesPerVertex, kBytesPerFace};
+  for (std::size_t k = 0; k < 2 && first + k < tokens.size(); ++k)
+    if (leading_integer(tokens[first + k], count) && count > 0)
+      core::check_declared_count(path, static_cast<std::size_t>(count), what[k], bytes[k]);
+  constexpr long long kMaxCount = 500000000;  // (2 * kMaxCount + 10) * 2.1 and 2 * kMaxCount fit an int
+  for (const std::string_view t : tokens)
+    if (leading_integer(t, count) && (count > kMaxCount || count < -kMaxCount))
+      fail(path, "malformed OFF header: count " + std::to_string(count) + " out of range (at most " +
+                     std::to_string(kMaxCount) + ") (" + quote(line_at(text, static_cast<std::size_t>(t.data() - text.data()))) + ")");
 }
 
 }  // namespace
