@@ -38,12 +38,14 @@ inline void read_input(const std::string& kind, const std::string& path) {
     // The header check, the payload readers and the cross-checks the next stage runs, in order.
     const std::string stage = kind.substr(6);
     // The newest version each reading executable accepts (pipeline/volts_<next stage>.cpp).
-    const int version = stage == "split" || stage == "polycube" ? 2 : 1;
+    const int version = stage == "split" || stage == "polycube" || stage == "tmesh" ? 2 : 1;
     const core::Json j = core::read_stage_file(path, "volts-" + stage, version);
     pipeline::check_integer_members(path, j);
     const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", path), path);
     if (stage == "tmesh") {
-      (void)tmesh::from_json(core::require(j, "tmesh", path), path);
+      const core::Json& list = core::require(j, "tmeshes", path);
+      if (!list.is_array()) throw core::InvalidInputError(path + ": tmeshes must be a list");
+      for (const auto& t : list) (void)tmesh::from_json(t, path);
       return;
     }
     const classify::Classification c = classify::from_json(core::require(j, "classification", path), path);

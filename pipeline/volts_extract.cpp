@@ -20,7 +20,9 @@ int main(int argc, char** argv) {
         const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
         std::vector<tmesh::TMesh> t;
         try {
-          for (const auto& x : core::require(j, "tmeshes", in)) t.push_back(tmesh::from_json(x, in));
+          const core::Json& list = core::require(j, "tmeshes", in);
+          if (!list.is_array() || list.empty()) throw core::InvalidInputError(in + ": tmeshes must be a non-empty list of T-meshes");
+          for (const auto& x : list) t.push_back(tmesh::from_json(x, in));
         } catch (const core::Json::exception& e) {
           throw core::InvalidInputError(in + ": malformed tmeshes: " + e.what());
         }

@@ -264,9 +264,9 @@ std::vector<BadInput> catalogue() {
                    u.erase(u.end() - 3, u.end());
                  },
                  "polycube.vertex_uvw has"),
-      stage_json("TmeshSizeAndKnotsDisagree", "tmesh", "volts-extract", [](core::Json& j) { j["tmesh"]["size"][0] = 4; },
+      stage_json("TmeshSizeAndKnotsDisagree", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["size"][0] = 4; },
                  "does not match its 5 knots"),
-      stage_json("TmeshHugeLevel", "tmesh", "volts-extract", [](core::Json& j) { j["tmesh"]["level"] = 40; },
+      stage_json("TmeshHugeLevel", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["level"] = 40; },
                  "tmesh level 40 or degree 1 out of range"),
       {"ResumeWithoutEarlierStage",
        [](const fs::path& w) { test::write_text(w / "run.yaml", "input: {generate: box}\n"); },
