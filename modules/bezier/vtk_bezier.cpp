@@ -21,6 +21,8 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <new>
+#include <stdexcept>
 
 #include "bezier/bernstein.h"
 
@@ -105,7 +107,16 @@ vtkSmartPointer<vtkUnstructuredGrid> read_grid(const std::string& path) {
   // The XML parser reports through its own objects: silence VTK's console output, the error is ours to raise.
   const int display = vtkObject::GetGlobalWarningDisplay();
   vtkObject::GlobalWarningDisplayOff();
-  const int ok = reader->GetExecutive()->Update();
+  int ok = 0;
+  try {
+    ok = reader->GetExecutive()->Update();
+  } catch (const std::bad_alloc&) {  // VTK sizes arrays and compressed blocks from the file (found by fuzz_vtu)
+    vtkObject::SetGlobalWarningDisplay(display);
+    throw core::InvalidInputError(path + ": malformed .vtu file: implausible sizes (out of memory while reading)");
+  } catch (const std::length_error&) {
+    vtkObject::SetGlobalWarningDisplay(display);
+    throw core::InvalidInputError(path + ": malformed .vtu file: implausible sizes");
+  }
   vtkObject::SetGlobalWarningDisplay(display);
   if (!ok || !errors.message.empty() || reader->GetErrorCode() != vtkErrorCode::NoError || !reader->GetOutput()) {
     std::string m = errors.message;
