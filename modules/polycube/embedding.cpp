@@ -38,7 +38,8 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
     for (int i = 0; i < 4; ++i)
       if (comp.faces[i].patches.size() != 1)
         throw core::TopologyError("polycube: a torus cube face made of " + std::to_string(comp.faces[i].patches.size()) +
-                                  " patches (sharp curves inside a face) is not supported yet");
+                                  " patches (sharp curves inside a face) is not supported yet (issue 6); raise classify.sharp_angle_deg to ignore "
+                                  "those curves, or set `route: tet`");
     for (int i = 0; i < 4; ++i)
       for (int a = 0; a < 2; ++a) {
         const int corner = a + 2 * qb[i] + 4 * qc[i];

@@ -224,6 +224,39 @@ TEST(Pipeline, TorusRunsEndToEndAsARingOfFourCubes) {
   EXPECT_GE(x["certified_valid"].get<int>(), 4 * 512 - 4 * 4 * 8);
 }
 
+TEST(Pipeline, CorruptTorusStageFilesAreRefusedNamingTheFile) {
+  // The torus's own stage data: a decomposition triangle id out of range (read by volts-polycube)
+  // and a polycube whose cells are cut short (read by volts-tmesh): exit 4, the file and the
+  // problem named, nothing written by the stage.
+  const fs::path d = test::fresh_dir("pipeline", "torus_corrupt");
+  test::write_text(d / "run.yaml", "input: {generate: torus, resolution: 16}\ntmesh: {level: 1}\n");
+  ASSERT_EQ(test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string() + " --to polycube").code, 0);
+  const std::string split_file = (d / "w" / "split.stage.json").string(), poly_file = (d / "w" / "polycube.stage.json").string();
+  {
+    core::Json j = core::read_stage_file(split_file, "volts-split", 2);
+    j.erase("format"), j.erase("version");
+    j["decomposition"]["layout"]["patches"][0]["triangles"][0] = 1 << 30;
+    core::write_stage_file((d / "bad_split.json").string(), "volts-split", 2, j);
+    const test::Outcome r = test::run(test::bin("volts-polycube") + " --workdir " + (d / "w").string() + " --input " + (d / "bad_split.json").string() +
+                                      " --output " + (d / "out.json").string());
+    EXPECT_EQ(r.code, 4) << r.output;
+    EXPECT_NE(r.output.find("bad_split.json: a patch refers to triangle 1073741824"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(d / "out.json"));
+  }
+  {
+    core::Json j = core::read_stage_file(poly_file, "volts-polycube", 2);
+    j.erase("format"), j.erase("version");
+    j["polycube"]["cells"].erase(j["polycube"]["cells"].end() - 1);
+    core::write_stage_file((d / "bad_poly.json").string(), "volts-polycube", 2, j);
+    const test::Outcome r = test::run(test::bin("volts-tmesh") + " --workdir " + (d / "w").string() + " --input " + (d / "bad_poly.json").string() +
+                                      " --output " + (d / "out.json").string());
+    EXPECT_EQ(r.code, 4) << r.output;
+    EXPECT_NE(r.output.find("bad_poly.json: polycube.cells needs 24 numbers per cube"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(d / "out.json"));
+    EXPECT_FALSE(fs::exists(d / "w" / "tmesh.vtu"));
+  }
+}
+
 TEST(Pipeline, EveryExecutableHasHelp) {
   for (const char* t : {"volts", "volts-check", "volts-classify", "volts-split", "volts-polycube", "volts-tmesh", "volts-extract", "volts-make-model"}) {
     const test::Outcome r = test::run(test::bin(t) + " --help");
