@@ -206,8 +206,12 @@ class TextProblems {
 /// nv vertices, then nf faces), run before CGAL reads them: CGAL allocates every array a count
 /// announces (header or face line) before reading it, so a truncated or corrupt file could make
 /// it allocate gigabytes, and it reports no problem beyond "false".
+/// `color_tokens_at`: for COFF-like headers, how many tokens precede a vertex's colour (else 0).
+/// CGAL reads the colour as the tokens left after the coordinates (and normals, texture) and reads
+/// three of them unless one is left, without checking they exist (found by fuzz_off: a short
+/// CNOFF vertex line reads freed memory), so a colour of other than 0, 1, 3 or 4 values is refused.
 void check_off_lines(const std::string& path, const std::string& text, std::size_t header_end, std::size_t nv,
-                     std::size_t nf) {
+                     std::size_t nf, std::size_t color_tokens_at) {
   TextProblems problems(text);
   std::size_t items = 0;
   // Like CGAL, read on from the end of the counts: the rest of their line is data if not blank.
@@ -216,6 +220,13 @@ void check_off_lines(const std::string& path, const std::string& text, std::size
     if (t.empty()) return;
     if (items < nv) {
       problems.vertex(items, t, line);
+      if (color_tokens_at > 0) {
+        const long long colors = static_cast<long long>(t.size()) - static_cast<long long>(color_tokens_at);
+        if (colors != 0 && colors != 1 && colors != 3 && colors != 4)
+          problems.malformed("vertex " + std::to_string(items) + ": " + std::to_string(std::max(colors, 0LL)) +
+                                 " values after the coordinates and normals where a colour needs 0, 1, 3 or 4",
+                             line);
+      }
     } else if (items < nv + nf) {
       const std::size_t face = items - nv;
       long long n = 0;
@@ -320,7 +331,12 @@ RawSoup parse_off(const std::string& path, const std::string& text) {
   if (nv > INT_MAX || nf > INT_MAX) fail(path, "malformed OFF header: negative vertex or face count (" + quote(header_line) + ")");
   core::check_declared_count(path, nv, "vertices", kBytesPerVertex);
   core::check_declared_count(path, nf, "faces", kBytesPerFace);
-  check_off_lines(path, text, header_end, nv, nf);
+  std::size_t color_tokens_at = 0;
+  if (header.has_colors()) {
+    const std::size_t h = header.is_homogeneous() ? 1 : 0;
+    color_tokens_at = 3 + h + (header.has_normals() ? 3 + h : 0) + (header.has_textures() ? 2 + h : 0);
+  }
+  check_off_lines(path, text, header_end, nv, nf, color_tokens_at);
 
   in.clear();
   in.seekg(0);
