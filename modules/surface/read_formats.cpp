@@ -292,12 +292,14 @@ void check_off_header_counts(const std::string& path, std::string_view text) {
       pos = end;
     }
   }
+  // CGAL takes any token starting with BINARY for the binary marker, also after a keyword it does
+  // not recognise as ours, and then reads binary counts we cannot pre-scan (found by fuzz_off).
+  for (std::size_t k = 0; k < std::min<std::size_t>(tokens.size(), 3); ++k)
+    if (tokens[k].substr(0, 6) == "BINARY")
+      fail(path, "binary OFF is not supported, use ASCII OFF or PLY (" + quote(line_at(text, 0)) + ")");
   std::size_t first = 0;
   if (!tokens.empty() && tokens[0].size() >= 3 && tokens[0].substr(tokens[0].size() - 3) == "OFF") {
     first = 1;
-    // CGAL takes any token starting with BINARY for the binary marker (found by fuzz_off).
-    if (tokens.size() > 1 && tokens[1].substr(0, 6) == "BINARY")
-      fail(path, "binary OFF is not supported, use ASCII OFF or PLY (" + quote(line_at(text, 0)) + ")");
     if (tokens[0].find('n') != npos) first = 2;  // nOFF: a dimension comes first
   }
   long long count = 0;
