@@ -292,11 +292,11 @@ void check_off_header_counts(const std::string& path, std::string_view text) {
       pos = end;
     }
   }
-  // CGAL finds a binary marker in "BINARY" wherever it follows the keyword, even glued to it or
-  // after bytes it skips, and then reads binary counts we cannot pre-scan (found by fuzz_off): any
-  // BINARY before the first digit of the file is taken for one.
-  const std::size_t first_digit = std::min(text.find_first_of("0123456789"), text.size());
-  if (text.substr(0, first_digit).find("BINARY") != npos)
+  // CGAL finds a binary marker in "BINARY" wherever its header scan meets it — glued to the
+  // keyword, after bytes it skips, after a second keyword — and then reads binary counts we cannot
+  // pre-scan (three variants found by fuzz_off). volts reads ASCII OFF only, so any BINARY in the
+  // file is taken for a marker.
+  if (text.find("BINARY") != npos)
     fail(path, "binary OFF is not supported, use ASCII OFF or PLY (" + quote(line_at(text, 0)) + ")");
   std::size_t first = 0;
   if (!tokens.empty() && tokens[0].size() >= 3 && tokens[0].substr(tokens[0].size() - 3) == "OFF") {
