@@ -10,6 +10,7 @@
 #include <set>
 
 #include "classify/classify.h"
+#include "common/test_util.h"
 #include "core/errors.h"
 #include "models/models.h"
 #include "split/split.h"
@@ -20,12 +21,7 @@ namespace {
 
 surface::Mesh shared(const std::string& f) { return surface::read_surface(std::string(VOLTS_SHARED_MODELS) + "/" + f); }
 
-surface::Mesh generated(const std::string& name, int resolution) {
-  models::ModelParams p;
-  p.name = name;
-  p.resolution = resolution;
-  return models::make_model(p);
-}
+surface::Mesh generated(const std::string& name, int resolution) { return test::generated_model(name, resolution); }
 
 split::Decomposition run_split(const surface::Mesh& m, const split::Params& p = {}) {
   return split::split(m, classify::classify(m, {}), p);
