@@ -14,7 +14,11 @@ namespace volts::tmesh {
 
 using Vec3 = std::array<double, 3>;
 
-int TMesh::elements() const { return 1 << (3 * level); }
+int TMesh::elements() const {
+  int n = 1;
+  for (int a = 0; a < 3; ++a) n *= static_cast<int>(bezier::element_spans(knots[a], degree).size());
+  return n;
+}
 
 namespace {
 
@@ -100,7 +104,8 @@ core::Json to_json(const TMesh& t) {
   for (const auto& p : t.control_points) cp.insert(cp.end(), p.begin(), p.end());
   for (const auto& p : t.parameters) par.insert(par.end(), p.begin(), p.end());
   return core::Json{{"level", t.level}, {"degree", t.degree}, {"knots", t.knots}, {"size", t.size},
-                    {"control_points", cp}, {"parameters", par}, {"boundary", t.boundary}, {"component", t.component}};
+                    {"control_points", cp}, {"parameters", par}, {"boundary", t.boundary}, {"component", t.component},
+                    {"function_ids", t.function_ids}};
 }
 
 TMesh from_json(const core::Json& j, const std::string& file) {
@@ -123,11 +128,17 @@ TMesh from_json(const core::Json& j, const std::string& file) {
                                       std::to_string(t.knots[a].size()) + " knots of degree " + std::to_string(t.degree));
     if (j.contains("boundary")) t.boundary = j["boundary"].get<std::array<int, 6>>();
     if (j.contains("component")) t.component = j["component"].get<int>();
+    if (j.contains("function_ids")) t.function_ids = j["function_ids"].get<std::vector<int>>();
     const auto cp = core::require(j, "control_points", file).get<std::vector<double>>();
     const auto par = core::require(j, "parameters", file).get<std::vector<double>>();
     const std::size_t n = static_cast<std::size_t>(t.size[0]) * t.size[1] * t.size[2];
     if (cp.size() != 3 * n || par.size() != 3 * n)
       throw core::InvalidInputError(file + ": control point count does not match size");
+    if (!t.function_ids.empty() && t.function_ids.size() != n)
+      throw core::InvalidInputError(file + ": tmesh function_ids has " + std::to_string(t.function_ids.size()) +
+                                    " entries for " + std::to_string(n) + " control points");
+    for (const int id : t.function_ids)
+      if (id < 0) throw core::InvalidInputError(file + ": tmesh function_ids holds a negative id");
     for (const double x : cp)
       if (!std::isfinite(x)) throw core::InvalidInputError(file + ": a tmesh control point is not finite");
     for (std::size_t i = 0; i < n; ++i) {

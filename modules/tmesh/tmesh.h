@@ -36,7 +36,11 @@ struct TMesh {
   /// Per cube face 2*axis + side: 1 if it lies on the input surface (0: shared with another cube).
   std::array<int, 6> boundary{1, 1, 1, 1, 1, 1};
   int component = 0;                                   ///< the split component (cube) it belongs to
-  int elements() const;
+  /// Global basis-function id of each control point. Blocks (tensor patches) that share a face
+  /// have identical control points there and give them the same id, so the spline is C0 across
+  /// the face. Empty: ids are numbered block after block (no sharing).
+  std::vector<int> function_ids;
+  int elements() const;  ///< product of the knot spans in the three directions
 };
 
 /// A map from the unit cube's parameters to physical space.
