@@ -194,6 +194,8 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     Section s = top.section("tmesh");
     s.get("level", c.tmesh.level, 1, 7);
     s.get("degree", c.tmesh.degree, 1, 5);
+    s.get("pillow_layers", c.tmesh.pillow_layers, 0, 4);
+    s.get("optimize_sweeps", c.tmesh.optimize_sweeps, 0, 100);
     s.finish();
   }
   {
@@ -324,7 +326,9 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "tet_max_volume_rel" << YAML::Value << c.polycube.tet_max_volume_rel << YAML::EndMap;
   e << YAML::Key << "tmesh" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "level" << YAML::Value << c.tmesh.level;
-  e << YAML::Key << "degree" << YAML::Value << c.tmesh.degree << YAML::EndMap;
+  e << YAML::Key << "degree" << YAML::Value << c.tmesh.degree;
+  e << YAML::Key << "pillow_layers" << YAML::Value << c.tmesh.pillow_layers;
+  e << YAML::Key << "optimize_sweeps" << YAML::Value << c.tmesh.optimize_sweeps << YAML::EndMap;
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;
