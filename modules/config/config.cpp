@@ -1,5 +1,6 @@
 #include "config/config.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -90,6 +91,23 @@ class Section {
       }
       if (!std::isfinite(d)) fail_key(key, "must hold finite numbers");
       v.push_back(d);
+    }
+    value = v;
+  }
+
+  /// A list of names, each one of `allowed`.
+  void get(const std::string& key, std::vector<std::string>& value, const std::vector<std::string>& allowed) {
+    YAML::Node n = lookup(key);
+    if (!n.IsDefined()) return;
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    if (!n.IsSequence()) fail_key(key, "must be a list of names (" + list + ")");
+    std::vector<std::string> v;
+    for (const auto& x : n) {
+      if (!x.IsScalar()) fail_key(key, "must be a list of names (" + list + ")");
+      if (std::find(allowed.begin(), allowed.end(), x.Scalar()) == allowed.end())
+        fail_key(key, "'" + x.Scalar() + "' is not one of: " + list);
+      v.push_back(x.Scalar());
     }
     value = v;
   }
@@ -203,6 +221,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("gauss_points", c.extract.gauss_points, 0, 10);
     s.get("boundary_samples", c.extract.boundary_samples, 2, 64);
     s.get("certify_max_depth", c.extract.certify.max_depth, 0, 20);
+    s.get("exports", c.extract.exports, extract::export_names());
     s.finish();
   }
   {
@@ -332,7 +351,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;
-  e << YAML::Key << "certify_max_depth" << YAML::Value << c.extract.certify.max_depth << YAML::EndMap;
+  e << YAML::Key << "certify_max_depth" << YAML::Value << c.extract.certify.max_depth;
+  e << YAML::Key << "exports" << YAML::Value << YAML::Flow << c.extract.exports << YAML::EndMap;
   const auto& t = c.tet2hex;
   e << YAML::Key << "tet2hex" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "max_radius_edge_ratio" << YAML::Value << t.tetgen.max_radius_edge_ratio;

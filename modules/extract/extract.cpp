@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <string>
 
 #include "bezier/bspline.h"
 #include "bezier/bspline_volume.h"
@@ -15,6 +17,154 @@
 namespace volts::extract {
 
 using surface::Mesh;
+
+namespace {
+
+// Global function id of every control point of every block: TMesh::function_ids, or the next
+// free ids where a block has none.
+std::vector<std::vector<int>> function_ids(const std::vector<tmesh::TMesh>& ts) {
+  std::vector<std::vector<int>> ids(ts.size());
+  int next = 0;
+  for (const auto& t : ts)
+    for (const int id : t.function_ids) next = std::max(next, id + 1);
+  for (std::size_t b = 0; b < ts.size(); ++b) {
+    const std::size_t n = ts[b].control_points.size();
+    if (ts[b].function_ids.empty()) {
+      for (std::size_t i = 0; i < n; ++i) ids[b].push_back(next++);
+    } else {
+      if (ts[b].function_ids.size() != n)
+        throw core::InvalidInputError("extract: block " + std::to_string(b) + " has " + std::to_string(ts[b].function_ids.size()) +
+                                      " function ids for " + std::to_string(n) + " control points");
+      for (const int id : ts[b].function_ids)
+        if (id < 0) throw core::InvalidInputError("extract: block " + std::to_string(b) + " has a negative function id");
+      ids[b] = ts[b].function_ids;
+    }
+  }
+  return ids;
+}
+
+// Makes 1-D operator rows equal within kSame identical to the first such row seen, so that
+// analytically equal rows (uniform knots) are bit-identical and exporters can share them.
+class RowCanon {
+ public:
+  Eigen::MatrixXd canonical(const Eigen::MatrixXd& m) {
+    Eigen::MatrixXd r = m;
+    for (int i = 0; i < m.rows(); ++i) {
+      const Eigen::RowVectorXd row = m.row(i);
+      auto it = std::find_if(rows_.begin(), rows_.end(), [&](const Eigen::RowVectorXd& x) {
+        return x.size() == row.size() && (x - row).cwiseAbs().maxCoeff() <= kSame;
+      });
+      if (it == rows_.end()) rows_.push_back(row);
+      else r.row(i) = *it;
+    }
+    return r;
+  }
+
+ private:
+  static constexpr double kSame = 1e-14;
+  std::vector<Eigen::RowVectorXd> rows_;
+};
+
+}  // namespace
+
+GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<bezier::BezierHex>& hexes) {
+  const std::vector<std::vector<int>> ids = function_ids(ts);
+  GlobalBasis g;
+  int count = 0;
+  Eigen::AlignedBox3d box;
+  for (std::size_t b = 0; b < ts.size(); ++b)
+    for (std::size_t i = 0; i < ids[b].size(); ++i) {
+      count = std::max(count, ids[b][i] + 1);
+      box.extend(Eigen::Vector3d(ts[b].control_points[i][0], ts[b].control_points[i][1], ts[b].control_points[i][2]));
+    }
+  const double diagonal = box.isEmpty() ? 0.0 : box.diagonal().norm();
+  const double tol = 1e-12 * std::max(diagonal, std::numeric_limits<double>::min());
+  g.points.assign(count, Eigen::Vector3d::Zero());
+  g.weights.assign(count, 1.0);
+  std::vector<int> owner(count, -1);  // block that first gave the function its point
+  for (std::size_t b = 0; b < ts.size(); ++b)
+    for (std::size_t i = 0; i < ids[b].size(); ++i) {
+      const int id = ids[b][i];
+      const Eigen::Vector3d p(ts[b].control_points[i][0], ts[b].control_points[i][1], ts[b].control_points[i][2]);
+      if (owner[id] < 0) {
+        owner[id] = static_cast<int>(b), g.points[id] = p;
+      } else if ((g.points[id] - p).norm() > tol) {
+        throw core::InvalidInputError("extract: function " + std::to_string(id) + " has different control points in blocks " +
+                                      std::to_string(owner[id]) + " and " + std::to_string(b));
+      }
+    }
+  for (int id = 0; id < count; ++id)
+    if (owner[id] < 0) throw core::InvalidInputError("extract: function id " + std::to_string(id) + " belongs to no control point");
+
+  RowCanon canon;
+  std::size_t e = 0;
+  for (std::size_t b = 0; b < ts.size(); ++b) {
+    const tmesh::TMesh& t = ts[b];
+    const int p = t.degree, q = p + 1;
+    std::array<std::vector<int>, 3> spans;
+    std::array<std::vector<Eigen::MatrixXd>, 3> ops;
+    for (int d = 0; d < 3; ++d) {
+      spans[d] = bezier::element_spans(t.knots[d], p);
+      ops[d] = bezier::extraction_operators(t.knots[d], p);
+      for (auto& m : ops[d]) m = canon.canonical(m);
+    }
+    for (std::size_t ec = 0; ec < spans[2].size(); ++ec)
+      for (std::size_t eb = 0; eb < spans[1].size(); ++eb)
+        for (std::size_t ea = 0; ea < spans[0].size(); ++ea, ++e) {
+          if (e >= hexes.size()) throw core::NumericalError("extract: more elements in the blocks than Bézier hexes");
+          const std::string name = "extract: element " + std::to_string(e) + " (block " + std::to_string(b) + ", span " +
+                                   std::to_string(ea) + "," + std::to_string(eb) + "," + std::to_string(ec) + ")";
+          // Global ids of the element's (p+1)^3 local functions, index a + q(b + q c).
+          std::vector<int> local(q * q * q);
+          for (int c = 0; c < q; ++c)
+            for (int bb = 0; bb < q; ++bb)
+              for (int a = 0; a < q; ++a) {
+                const int i = spans[0][ea] - p + a, j = spans[1][eb] - p + bb, k = spans[2][ec] - p + c;
+                local[a + q * (bb + q * c)] = ids[b][i + t.size[0] * (j + t.size[1] * k)];
+              }
+          ExtractionElement el;
+          el.functions = local;
+          std::sort(el.functions.begin(), el.functions.end());
+          el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
+          std::vector<Eigen::Triplet<double>> triplets;
+          const Eigen::MatrixXd& Cu = ops[0][ea];
+          const Eigen::MatrixXd& Cv = ops[1][eb];
+          const Eigen::MatrixXd& Cw = ops[2][ec];
+          for (int l = 0; l < q * q * q; ++l) {
+            const int row = static_cast<int>(std::lower_bound(el.functions.begin(), el.functions.end(), local[l]) - el.functions.begin());
+            const int a = l % q, bb = (l / q) % q, c = l / (q * q);
+            for (int col = 0; col < q * q * q; ++col) {
+              const double v = Cu(a, col % q) * Cv(bb, (col / q) % q) * Cw(c, col / (q * q));
+              if (v != 0.0) triplets.emplace_back(row, col, v);
+            }
+          }
+          el.op.resize(static_cast<int>(el.functions.size()), q * q * q);
+          el.op.setFromTriplets(triplets.begin(), triplets.end());  // sums a function repeated in the element
+          // Partition of unity and reproduction of the extracted hex.
+          const bezier::BezierHex& h = hexes[e];
+          if (h.num_points() != q * q * q) throw core::NumericalError(name + ": its Bézier hex has another degree");
+          Eigen::RowVectorXd sums = Eigen::RowVectorXd::Zero(q * q * q);
+          Eigen::MatrixXd bez = Eigen::MatrixXd::Zero(q * q * q, 3);
+          for (int r = 0; r < el.op.outerSize(); ++r)
+            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(el.op, r); it; ++it) {
+              sums[it.col()] += it.value();
+              bez.row(it.col()) += it.value() * g.points[el.functions[r]].transpose();
+            }
+          const double pou = (sums.array() - 1.0).abs().maxCoeff();
+          g.partition_of_unity_error = std::max(g.partition_of_unity_error, pou);
+          if (!(pou <= 1e-12)) throw core::NumericalError(name + ": its extraction operator is no partition of unity (a column sum is off 1 by " +
+                                                          std::to_string(pou) + ", allowed 1e-12)");
+          double dev = 0;
+          for (int i = 0; i < q * q * q; ++i) dev = std::max(dev, (bez.row(i).transpose() - h.points[i]).norm());
+          if (!(dev <= tol))
+            throw core::NumericalError(name + ": Cᵀ·P misses its Bézier control points by " + std::to_string(dev / std::max(diagonal, 1e-300)) +
+                                       " of the bounding-box diagonal (allowed 1e-12)");
+          g.elements.push_back(std::move(el));
+        }
+  }
+  if (e != hexes.size()) throw core::NumericalError("extract: fewer elements in the blocks than Bézier hexes");
+  return g;
+}
 
 Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const Params& params) {
   if (params.gauss_points < 0 || params.gauss_points > 10) throw core::ConfigError("extract.gauss_points must be in [0, 10]");
@@ -49,6 +199,12 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
       r.hexes.insert(r.hexes.end(), hexes.begin(), hexes.end());
     }
   }
+  {
+    core::LogSection s("global basis and extraction operators");
+    r.basis = global_basis(ts, r.hexes);
+    core::log(std::to_string(r.basis.points.size()) + " global functions, partition of unity within " +
+              std::to_string(r.basis.partition_of_unity_error));
+  }
   const int gp = params.gauss_points > 0 ? params.gauss_points : r.degree + 1;
   {
     core::LogSection s("scaled Jacobian at corners and Gauss points");
@@ -82,13 +238,25 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
   return r;
 }
 
+namespace {
+
+double frac_above(const std::vector<double>& v, double x) {
+  if (v.empty()) return 0.0;
+  return static_cast<double>(std::count_if(v.begin(), v.end(), [x](double y) { return y > x; })) / static_cast<double>(v.size());
+}
+
+}  // namespace
+
 core::Json report_figures(const Result& r) {
   return core::Json{{"bezier_elements", r.hexes.size()},   {"degree", r.degree},
                     {"min_scaled_jacobian", r.min_scaled}, {"max_scaled_jacobian", r.max_scaled},
                     {"hausdorff_rel", r.hausdorff_rel},    {"volume_rel_error", r.volume_rel_error},
                     {"spline_volume", r.spline_volume},    {"surface_volume", r.surface_volume},
                     {"certified_valid", r.certified_valid}, {"certified_invalid", r.certified_invalid},
-                    {"undecided", r.undecided},            {"certified_min_detj_rel", r.certified_min_detj_rel}};
+                    {"undecided", r.undecided},            {"certified_min_detj_rel", r.certified_min_detj_rel},
+                    {"global_functions", r.basis.points.size()},
+                    {"partition_of_unity_error", r.basis.partition_of_unity_error},
+                    {"frac_scaled_jacobian_above_0_5", frac_above(r.min_scaled_jacobian, 0.5)}};
 }
 
 void write_bezier_vtu(const std::string& path, const Result& r) {

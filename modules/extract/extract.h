@@ -1,12 +1,16 @@
 // volts::extract — stage 5: the spline from the T-mesh, its Bézier elements by extraction, quality
 // figures and export (Liu et al. 2013, §5.3 and §6).
 //
-// Implemented so far: the tensor-product B-spline of a uniform T-mesh, Bézier extraction by knot
-// insertion (bezier::extraction_operators), scaled Jacobian sampled at corners and Gauss points,
-// boundary deviation from the input surface and volume error, and bezier.vtu for ParaView.
-// T-spline templates at irregular nodes and the solver exports (.bext, .json, .msh) are issue 8.
+// Implemented so far: the tensor-product B-spline blocks of a uniform T-mesh, Bézier extraction by
+// knot insertion (bezier::extraction_operators), the global basis shared across blocks with every
+// element's sparse extraction operator C (Borden, Scott, Evans & Hughes 2011, §5: Bézier points =
+// Cᵀ·P), checked for partition of unity and reproduction; scaled Jacobian sampled at corners and
+// Gauss points, boundary deviation from the input surface and volume error, and bezier.vtu for
+// ParaView. Solver exports (.bext, .json, .msh, histogram): extract/export.h. T-spline templates
+// at irregular nodes are issue 8 item 1.
 #pragma once
 
+#include <Eigen/Sparse>
 #include <string>
 #include <vector>
 
@@ -18,15 +22,40 @@
 
 namespace volts::extract {
 
+/// Files volts-extract can write (extract.exports): bezier.vtu, bezier.bext with its keyword deck
+/// bezier.k, bezier.json, bezier.msh, scaled_jacobian_histogram.png (extract/export.h).
+inline const std::vector<std::string>& export_names() {
+  static const std::vector<std::string> names = {"vtu", "bext", "json", "msh", "png"};
+  return names;
+}
+
 /// Parameters of extract().
 struct Params {
   int gauss_points = 0;       ///< Gauss points per direction for the Jacobian sample; 0 = degree + 1
   int boundary_samples = 8;   ///< samples per direction on each boundary element face (Hausdorff) [2, 64]
   bezier::CertifyParams certify;  ///< certification of det J > 0 per element (max_depth: subdivision levels)
+  std::vector<std::string> exports = export_names();  ///< files volts-extract writes (names of export_names())
+};
+
+/// One Bézier element in the global basis.
+struct ExtractionElement {
+  std::vector<int> functions;  ///< global function ids of the element, ascending
+  /// Extraction operator C: row r = global function functions[r], column b = Bernstein function b
+  /// in BezierHex::index order; N_functions[r] = sum_b C(r,b) B_b, so the Bézier points are Cᵀ·P.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> op;
+};
+
+/// The spline in its global basis: what IGA solvers assemble on.
+struct GlobalBasis {
+  std::vector<Eigen::Vector3d> points;      ///< control point of each global function
+  std::vector<double> weights;              ///< weight of each global function (1 today: rational with unit weights)
+  std::vector<ExtractionElement> elements;  ///< same order as the Bézier hexes
+  double partition_of_unity_error = 0;      ///< max over columns of C of |column sum - 1|
 };
 
 struct Result {
   std::vector<bezier::BezierHex> hexes;
+  GlobalBasis basis;
   std::vector<double> min_scaled_jacobian;  ///< per element, sampled
   std::vector<double> max_scaled_jacobian;  ///< per element, sampled
   std::vector<double> boundary_distance;    ///< per element: max sampled distance of its boundary faces to the surface (0 inside)
@@ -42,13 +71,25 @@ struct Result {
   double volume_rel_error = 0;  ///< |spline_volume - surface_volume| / surface_volume
 };
 
+/// The global basis of the blocks `t` and the extraction operator of each of their elements, in
+/// the order of `hexes` (block after block, u fastest, then v, then w; = extract_bezier_hexes per
+/// block). Function ids are TMesh::function_ids, or numbered block after block where empty.
+/// 1-D operators equal within 1e-14 are made identical (uniform knots: bit-identical rows, so
+/// exporters can share coefficient vectors). Checks every element: each column of C sums to 1
+/// within 1e-12, and Cᵀ·P equals the hex's Bézier points within 1e-12 × bounding-box diagonal.
+/// Throws core::InvalidInputError for ids that do not match the control points (wrong count, an
+/// unused id, one id with two different points), core::NumericalError naming the element if a
+/// check fails.
+GlobalBasis global_basis(const std::vector<tmesh::TMesh>& t, const std::vector<bezier::BezierHex>& hexes);
+
 /// Extracts the Bézier elements of the splines of the cubes `t` (all of one degree) and measures them
 /// against the input `surface`; boundary deviation is sampled on the cube faces marked boundary.
 Result extract(const std::vector<tmesh::TMesh>& t, const surface::Mesh& surface, const Params& params);
 
 /// Report keys: bezier_elements, degree, min_scaled_jacobian, max_scaled_jacobian, hausdorff_rel,
 /// volume_rel_error (+ spline_volume, surface_volume), certified_valid, certified_invalid,
-/// undecided, certified_min_detj_rel.
+/// undecided, certified_min_detj_rel, global_functions, partition_of_unity_error,
+/// frac_scaled_jacobian_above_0_5 (elements whose sampled min scaled Jacobian is > 0.5).
 core::Json report_figures(const Result& r);
 
 /// bezier.vtu: VTK_BEZIER_HEXAHEDRON cells with per-cell min/max scaled Jacobian, boundary distance,

@@ -1,0 +1,141 @@
+// volts-extract's solver exports on the box pipeline (generated box, octree level 2), as a user
+// runs it: report figures of the global basis, every file of extract.exports next to bezier.vtu
+// and read back, gmsh accepting the .msh; extract.exports limits what is written.
+#include <gtest/gtest.h>
+
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "common/test_util.h"
+#include "core/stage_file.h"
+#include "extract/export.h"
+#include "extract/readers.h"
+
+namespace fs = std::filesystem;
+using namespace volts;
+
+namespace {
+
+class Box : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir = test::fresh_dir("extract", "box");
+    test::write_text(dir / "run.yaml", "input: {generate: box, resolution: 8}\ntmesh: {level: 2}\n");
+    result = test::run(test::bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string());
+  }
+  static fs::path dir;
+  static test::Outcome result;
+};
+fs::path Box::dir;
+test::Outcome Box::result;
+
+}  // namespace
+
+TEST_F(Box, ReportHasTheGlobalBasisFigures) {
+  ASSERT_EQ(result.code, 0) << result.output;
+  const auto s = core::read_report((dir / "work").string())["stages"];
+  const auto& x = s["extract"];
+  EXPECT_LT(x["partition_of_unity_error"].get<double>(), 1e-12);
+  EXPECT_GE(x["partition_of_unity_error"].get<double>(), 0.0);
+  EXPECT_EQ(x["global_functions"], s["tmesh"]["nodes"]);
+  EXPECT_GT(x["global_functions"].get<int>(), 0);
+  const double frac = x["frac_scaled_jacobian_above_0_5"].get<double>();
+  EXPECT_GT(frac, 0.5);  // a box: nearly all elements are good
+  EXPECT_LE(frac, 1.0);
+  for (const char* k : {"vtu", "bext", "k", "json", "msh", "png"}) EXPECT_TRUE(x["outputs"].contains(k)) << k;
+}
+
+TEST_F(Box, BextAndMshAgreeWithTheReport) {
+  ASSERT_EQ(result.code, 0) << result.output;
+  const fs::path w = dir / "work";
+  const auto x = core::read_report(w.string())["stages"]["extract"];
+  const long elements = x["bezier_elements"].get<long>();
+  const test::Bext b = test::read_bext((w / "bezier.bext").string());
+  EXPECT_EQ(b.nodes, x["global_functions"].get<long>());
+  EXPECT_EQ(b.elements, elements);
+  for (const auto& v : b.coefficient_vectors) {
+    double sum = 0;
+    for (const double c : v) sum += c;
+    EXPECT_GT(sum, 0.0);  // a function's row has mass somewhere
+  }
+  // Partition of unity read from the file: over an element's rows, each Bernstein column sums to 1.
+  for (long e = 0; e < b.elements; ++e)
+    for (int c = 0; c < 64; ++c) {
+      double sum = 0;
+      for (const long v : b.element_vectors[e]) sum += b.coefficient_vectors[v][c];
+      ASSERT_NEAR(sum, 1.0, 1e-12) << "element " << e << " column " << c;
+    }
+  const test::Msh m = test::read_msh((w / "bezier.msh").string());
+  EXPECT_EQ(static_cast<long>(m.elements.size()), elements);
+  // Conforming: every element face (its 16 node tags) is shared by two elements, or lies on the
+  // box's surface (the box's faces are planes: all its nodes on one bounding plane).
+  Eigen::AlignedBox3d box;
+  for (const auto& [tag, p] : m.nodes) box.extend(p);
+  const auto lattice = extract::gmsh_hex_nodes(3);
+  std::map<std::vector<long>, int> faces;
+  for (const auto& el : m.elements)
+    for (int axis = 0; axis < 3; ++axis)
+      for (const int side : {0, 3}) {
+        std::vector<long> f;
+        for (int n = 0; n < 64; ++n)
+          if (lattice[n][axis] == side) f.push_back(el[n]);
+        std::sort(f.begin(), f.end());
+        ++faces[f];
+      }
+  int inner = 0;
+  for (const auto& [f, count] : faces) {
+    ASSERT_LE(count, 2);
+    if (count == 2) {
+      ++inner;
+      continue;
+    }
+    bool on_plane = false;
+    for (int d = 0; d < 3 && !on_plane; ++d)
+      for (const double plane : {box.min()[d], box.max()[d]}) {
+        bool all = true;
+        for (const long t : f) all = all && std::abs(m.nodes.at(t)[d] - plane) < 1e-9 * box.diagonal().norm();
+        on_plane = on_plane || all;
+      }
+    EXPECT_TRUE(on_plane) << "a face of one element only, inside the box: the mesh is not conforming";
+  }
+  EXPECT_GT(inner, 0);
+  if (test::run("gmsh --version").code == 0) {
+    const auto check = test::run("gmsh " + (w / "bezier.msh").string() + " -check");
+    EXPECT_EQ(check.code, 0) << check.output;
+    EXPECT_EQ(check.output.find("rror"), std::string::npos) << check.output;
+    EXPECT_NE(check.output.find(std::to_string(elements) + " elements"), std::string::npos) << check.output;
+  }
+  const std::string deck = (w / "bezier.k").string();
+  EXPECT_TRUE(fs::exists(deck));
+  vtkNew<vtkPNGReader> png;
+  png->SetFileName((w / "scaled_jacobian_histogram.png").c_str());
+  png->Update();
+  int dims[3];
+  png->GetOutput()->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 420);
+  EXPECT_EQ(dims[1], 260);
+}
+
+TEST_F(Box, ExportsListLimitsTheFilesAndRefusesUnknownNames) {
+  ASSERT_EQ(result.code, 0) << result.output;
+  const fs::path w = dir / "only";
+  fs::create_directories(w);
+  fs::copy_file(dir / "work" / "tmesh.stage.json", w / "tmesh.stage.json");
+  test::write_text(dir / "only.yaml", "extract: {exports: [json]}\n");
+  const auto ok = test::run(test::bin("volts-extract") + " --config " + (dir / "only.yaml").string() + " --workdir " + w.string());
+  ASSERT_EQ(ok.code, 0) << ok.output;
+  EXPECT_TRUE(fs::exists(w / "bezier.json"));
+  for (const char* f : {"bezier.vtu", "bezier.bext", "bezier.k", "bezier.msh", "scaled_jacobian_histogram.png"})
+    EXPECT_FALSE(fs::exists(w / f)) << f;
+  test::write_text(dir / "bad.yaml", "extract: {exports: [vtu, stl]}\n");
+  const auto bad = test::run(test::bin("volts-extract") + " --config " + (dir / "bad.yaml").string() + " --workdir " + w.string());
+  EXPECT_EQ(bad.code, 3) << bad.output;
+  EXPECT_NE(bad.output.find("extract.exports"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("'stl'"), std::string::npos) << bad.output;
+}
