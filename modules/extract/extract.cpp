@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <string>
@@ -202,8 +203,9 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
   {
     core::LogSection s("global basis and extraction operators");
     r.basis = global_basis(ts, r.hexes);
-    core::log(std::to_string(r.basis.points.size()) + " global functions, partition of unity within " +
-              std::to_string(r.basis.partition_of_unity_error));
+    char pou[32];
+    std::snprintf(pou, sizeof pou, "%.1e", r.basis.partition_of_unity_error);
+    core::log(std::to_string(r.basis.points.size()) + " global functions, partition of unity within " + pou);
   }
   const int gp = params.gauss_points > 0 ? params.gauss_points : r.degree + 1;
   {
