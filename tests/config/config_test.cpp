@@ -94,3 +94,17 @@ TEST(Config, TetRouteSection) {
 TEST(Config, MissingFileIsInvalidInput) {
   EXPECT_THROW(config::load_config("/nonexistent/volts.yaml"), core::InvalidInputError);
 }
+
+TEST(Config, ExtractExportsIsAListOfKnownNames) {
+  const config::Config builtin;
+  EXPECT_EQ(builtin.extract.exports, (std::vector<std::string>{"vtu", "bext", "json", "msh", "png"}));
+  const config::Config file = config::load_config(std::string(VOLTS_SOURCE_DIR) + "/configs/default.yaml");
+  EXPECT_EQ(file.extract.exports, builtin.extract.exports);
+  const auto c = config::parse_config("extract: {exports: [json, msh]}\n", "t");
+  EXPECT_EQ(c.extract.exports, (std::vector<std::string>{"json", "msh"}));
+  EXPECT_EQ(config::parse_config(config::to_yaml(c), "emitted").extract.exports, c.extract.exports);
+  EXPECT_TRUE(config::parse_config("extract: {exports: []}\n", "t").extract.exports.empty());
+  EXPECT_NE(config_error("extract: {exports: [vtu, stl]}\n").find("extract.exports: 'stl' is not one of: vtu, bext, json, msh, png"),
+            std::string::npos);
+  EXPECT_NE(config_error("extract: {exports: vtu}\n").find("extract.exports: must be a list of names"), std::string::npos);
+}
