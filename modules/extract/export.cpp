@@ -39,6 +39,7 @@ void put_int(std::ostream& out, long v) {
   out << buf;
 }
 void put_real(std::ostream& out, double v) {
+  if (std::abs(v) < 1e-99) v = 0.0;  // a 3-digit exponent would fill the field without a separating space
   char buf[40];
   std::snprintf(buf, sizeof buf, "%24.16e", v);
   out << buf;
