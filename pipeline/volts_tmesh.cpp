@@ -2,6 +2,8 @@
 // (control mesh) through the volume map; writes tmesh.stage.json and tmesh.vtu.
 #include "core/errors.h"
 #include "core/log.h"
+#include <limits>
+#include <memory>
 #include "stage_main.h"
 #include "surface/mesh_json.h"
 #include "polycube/embedding.h"
@@ -12,94 +14,128 @@ using namespace volts;
 
 namespace {
 
-// A torus: one tensor B-spline per cube of the ring, interpolating the volume map at its Greville
-// points through the ring embedding; neighbours sample their shared cross section at the same
-// points, so they share its control points (C0 between cubes). The octree is uniform (issue 7).
-core::Json torus(pipeline::StageContext& ctx, const std::string& in, const core::Json& j) {
+// One ring of cubes (a torus, §4.2): its embedding and the point location of its volume map.
+struct Ring {
+  polycube::Embedding embedding;
   std::unique_ptr<volmap::Locator> locate;
-  polycube::Embedding e;
-  {
-    core::LogSection s("volume map");
-    const volmap::VolumeMap vm = volmap::from_json(core::require(j, "volume_map", in), in);
-    if (vm.flipped_tets > 0)
-      throw core::NumericalError(in + ": the volume map has " + std::to_string(vm.flipped_tets) +
-                                 " flipped tets; rerun polycube with a smaller polycube.tet_max_volume_rel");
-    // Points of the round ring outside the surface's chords by up to the recorded gap snap onto it.
-    const double gap = core::require(core::require(j, "polycube", in), "boundary_gap", in).get<double>();
-    Eigen::Vector3d lo = vm.parameter.at(0), hi = lo;
-    for (const auto& p : vm.parameter) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    locate = std::make_unique<volmap::Locator>(vm, std::max(1e-6, 2 * gap / (hi - lo).norm()));
-    try {
-      const auto cells = core::require(core::require(j, "polycube", in), "cells", in).get<std::vector<double>>();
-      if (cells.empty() || cells.size() % 24) throw core::InvalidInputError(in + ": polycube.cells needs 24 numbers per cube");
-      e.cells.resize(cells.size() / 24);
-      e.ring = core::require(core::require(j, "polycube", in), "ring", in).get<int>();
-      e.mirrored = core::require(core::require(j, "polycube", in), "mirrored", in).get<bool>();
-      if (e.ring != static_cast<int>(e.cells.size())) throw core::InvalidInputError(in + ": polycube.ring does not match its cells");
-      for (std::size_t i = 0; i < cells.size(); ++i) e.cells[i / 24][(i % 24) / 3][i % 3] = cells[i];
-    } catch (const core::Json::exception& x) {
-      throw core::InvalidInputError(in + ": malformed polycube.cells: " + x.what());
-    }
+  bool swap = false;  // b <-> c, so that the cubes' parameters are right-handed in physical space
+};
+
+Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vmj) {
+  Ring r;
+  const volmap::VolumeMap vm = volmap::from_json(vmj, in);
+  if (vm.flipped_tets > 0)
+    throw core::NumericalError(in + ": the volume map has " + std::to_string(vm.flipped_tets) +
+                               " flipped tets; rerun polycube with a smaller polycube.tet_max_volume_rel");
+  // Points of the round ring outside the surface's chords by up to the recorded gap snap onto it.
+  const double gap = core::require(pc, "boundary_gap", in).get<double>();
+  Eigen::Vector3d lo = vm.parameter.at(0), hi = lo;
+  for (const auto& p : vm.parameter) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  r.locate = std::make_unique<volmap::Locator>(vm, std::max(1e-6, 2 * gap / (hi - lo).norm()));
+  polycube::Embedding& e = r.embedding;
+  try {
+    const auto cells = core::require(pc, "cells", in).get<std::vector<double>>();
+    if (cells.empty() || cells.size() % 24) throw core::InvalidInputError(in + ": polycube.cells needs 24 numbers per cube");
+    e.cells.resize(cells.size() / 24);
+    e.ring = core::require(pc, "ring", in).get<int>();
+    e.mirrored = core::require(pc, "mirrored", in).get<bool>();
+    if (e.ring != static_cast<int>(e.cells.size())) throw core::InvalidInputError(in + ": polycube.ring does not match its cells");
+    for (std::size_t i = 0; i < cells.size(); ++i) e.cells[i / 24][(i % 24) / 3][i % 3] = cells[i];
+  } catch (const core::Json::exception& x) {
+    throw core::InvalidInputError(in + ": malformed polycube.cells: " + x.what());
   }
-  std::vector<tmesh::TMesh> ts;
-  std::vector<tmesh::PointMap> maps;
-  // The spline's parameters must be right-handed in physical space; the ring's local frame is
-  // right- or left-handed depending on the directions split chose, so swap b and c if needed
-  // (all cubes alike, so neighbours still sample their shared cross section at the same points).
-  bool swap = false;
-  auto point = [&](std::size_t k, std::array<double, 3> abc) {
-    if (swap) std::swap(abc[1], abc[2]);
-    const auto x = locate->physical(polycube::cell_point(e, static_cast<int>(k), abc));
-    if (!x) throw core::NumericalError("tmesh: cube " + std::to_string(k) + " point outside the volume map");
-    return *x;
+  // The ring's local frame is right- or left-handed depending on the directions split chose; the
+  // sign of the map's Jacobian at the first cube's centre (central differences) tells which.
+  const double h = 0.05;
+  std::array<Eigen::Vector3d, 3> d;
+  for (int a = 0; a < 3; ++a) {
+    std::array<double, 3> lo3{0.5, 0.5, 0.5}, hi3{0.5, 0.5, 0.5};
+    lo3[a] -= h, hi3[a] += h;
+    const auto p = r.locate->physical(polycube::cell_point(e, 0, hi3));
+    const auto q = r.locate->physical(polycube::cell_point(e, 0, lo3));
+    if (!p || !q) throw core::NumericalError(in + ": the first cube's centre is outside the volume map");
+    d[a] = Eigen::Vector3d((*p)[0] - (*q)[0], (*p)[1] - (*q)[1], (*p)[2] - (*q)[2]);
+  }
+  r.swap = d[0].dot(d[1].cross(d[2])) < 0;
+  return r;
+}
+
+// Tori: every ring's cubes, numbered ring after ring; a = 0 and a = 1 are cross sections (shared
+// with the neighbouring cube), the other four faces lie on the surface. Rings are translated apart
+// in polycube space so their points never coincide.
+tmesh::PolycubeMaps ring_maps(const std::vector<Ring>& rings) {
+  tmesh::PolycubeMaps m;
+  std::vector<std::pair<int, int>> cube;  // (ring, cube in ring)
+  for (std::size_t r = 0; r < rings.size(); ++r)
+    for (int k = 0; k < rings[r].embedding.ring; ++k) cube.emplace_back(static_cast<int>(r), k), m.boundary.push_back({0, 0, 1, 1, 1, 1});
+  auto local = [&rings, cube](int c, std::array<double, 3> abc) {
+    const auto [r, k] = cube.at(static_cast<std::size_t>(c));
+    const Ring& ring = rings[static_cast<std::size_t>(r)];
+    if (ring.swap) std::swap(abc[1], abc[2]);
+    return std::make_pair(r, polycube::cell_point(ring.embedding, k, abc));
   };
+  m.polycube = [local](int c, const tmesh::Vec3& abc) {
+    auto [r, x] = local(c, abc);
+    x[0] += 10.0 * r;  // the round ring's radius is 2
+    return x;
+  };
+  m.physical = [local, &rings](int c, const tmesh::Vec3& abc) {
+    const auto [r, x] = local(c, abc);
+    const auto p = rings[static_cast<std::size_t>(r)].locate->physical(x);
+    if (!p) throw core::NumericalError("tmesh: cube " + std::to_string(c) + " point outside the volume map");
+    return *p;
+  };
+  return m;
+}
+
+// Blocks, optimization, files and report: the same for every kind of polycube.
+core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surface, const tmesh::PolycubeMaps& maps) {
+  std::vector<tmesh::TMesh> ts;
   {
-    const double h = 0.05;
-    std::array<std::array<double, 3>, 3> d{};
-    for (int a = 0; a < 3; ++a) {
-      std::array<double, 3> lo{0.5, 0.5, 0.5}, hi{0.5, 0.5, 0.5};
-      lo[a] -= h, hi[a] += h;
-      const auto p = point(0, hi), q = point(0, lo);
-      for (int i = 0; i < 3; ++i) d[a][i] = p[i] - q[i];
-    }
-    const double det = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
-                       d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
-    swap = det < 0;
+    core::LogSection s("octree, pillow and control points");
+    ts = tmesh::build(maps, ctx.config.tmesh);
   }
-  for (std::size_t k = 0; k < e.cells.size(); ++k) maps.push_back([&point, k](const std::array<double, 3>& abc) { return point(k, abc); });
-  {
-    core::LogSection s("octree and control points");
-    for (std::size_t k = 0; k < e.cells.size(); ++k) {
-      tmesh::TMesh t = tmesh::build(maps[k], ctx.config.tmesh);
-      t.boundary = {0, 0, 1, 1, 1, 1};  // the a = 0 and a = 1 faces are cross sections
-      t.component = static_cast<int>(k);
-      ts.push_back(std::move(t));
-    }
-  }
-  double min_sj = 0;
+  double before = std::numeric_limits<double>::infinity();
+  for (const auto& t : ts) before = std::min(before, tmesh::min_element_scaled_jacobian(t));
+  double after = before;
   {
     core::LogSection s("write");
     core::Json list = core::Json::array();
     for (const auto& t : ts) list.push_back(tmesh::to_json(t));
-    core::write_stage_file(ctx.output_file(), "volts-tmesh", 2, {{"surface", j["surface"]}, {"tmeshes", list}});
-    min_sj = tmesh::write_vtu(ctx.path("tmesh.vtu"), ts, maps);
+    core::write_stage_file(ctx.output_file(), "volts-tmesh", 2, {{"surface", surface}, {"tmeshes", list}});
+    after = tmesh::write_vtu(ctx.path("tmesh.vtu"), ts);
   }
-  core::log(std::to_string(ts.size()) + " cubes, min trilinear scaled Jacobian " + std::to_string(min_sj));
-  return tmesh::report_figures(ts, min_sj);
+  const core::Json fig = tmesh::report_figures(ts, before, after);
+  core::log(std::to_string(fig["blocks"].get<int>()) + " blocks, " + std::to_string(fig["elements"].get<int>()) + " elements, " +
+            std::to_string(fig["nodes"].get<int>()) + " nodes, min control-net scaled Jacobian " + std::to_string(after));
+  return fig;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   return pipeline::run_stage(argc, argv, "tmesh",
-      "Stage 4 (Liu et al. 2013 §5.1-5.2): octree T-mesh of the polycube, control points through the\n"
-      "volume map. Input: DIR/polycube.stage.json. Output: DIR/tmesh.stage.json, DIR/tmesh.vtu\n"
-      "(octree elements with level and scaled_jacobian).",
+      "Stage 4 (Liu et al. 2013 §5.1-5.2): octree T-mesh of the polycube, pillowed under the surface,\n"
+      "control points through the volume map. Input: DIR/polycube.stage.json. Output: DIR/tmesh.stage.json,\n"
+      "DIR/tmesh.vtu (the control net with scaled_jacobian, component, block and pillow per hex).",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("polycube");
         const core::Json j = core::read_stage_file(in, "volts-polycube", 2);
         const std::string kind = j.value("kind", std::string("cube"));
-        if (kind == "torus") return torus(ctx, in, j);
+        if (kind == "torus" || kind == "tori") {
+          std::vector<Ring> rings;
+          {
+            core::LogSection s("volume map");
+            if (kind == "torus") {
+              rings.push_back(read_ring(in, core::require(j, "polycube", in), core::require(j, "volume_map", in)));
+            } else {
+              const core::Json& list = core::require(j, "rings", in);
+              if (!list.is_array() || list.empty()) throw core::InvalidInputError(in + ": rings must be a non-empty list");
+              for (const auto& r : list) rings.push_back(read_ring(in, core::require(r, "polycube", in), core::require(r, "volume_map", in)));
+            }
+          }
+          return build_and_write(ctx, j["surface"], ring_maps(rings));
+        }
         if (kind != "cube") throw core::InvalidInputError(in + ": unknown polycube kind '" + kind + "'");
         pipeline::check_integer_members(in, j);
         const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
@@ -112,20 +148,10 @@ int main(int argc, char** argv) {
           core::LogSection s("volume map");
           map = std::make_unique<polycube::VolumeMap>(mesh, c, p);
         }
-        tmesh::TMesh t;
-        {
-          core::LogSection s("octree and control points");
-          t = tmesh::build(*map, ctx.config.tmesh);
-        }
-        double min_sj = 0;
-        {
-          core::LogSection s("write");
-          core::write_stage_file(ctx.output_file(), "volts-tmesh", 2,
-                                 {{"surface", j["surface"]}, {"tmeshes", core::Json::array({tmesh::to_json(t)})}});
-          min_sj = tmesh::write_vtu(ctx.path("tmesh.vtu"), t, *map);
-        }
-        core::log(std::to_string(t.elements()) + " elements, " + std::to_string(t.control_points.size()) +
-                  " control points, min trilinear scaled Jacobian " + std::to_string(min_sj));
-        return tmesh::report_figures({t}, min_sj);
+        tmesh::PolycubeMaps maps;
+        maps.boundary = {{1, 1, 1, 1, 1, 1}};
+        maps.physical = [&map](int, const tmesh::Vec3& abc) { return (*map)(abc); };
+        maps.polycube = [](int, const tmesh::Vec3& abc) { return abc; };
+        return build_and_write(ctx, j["surface"], maps);
       });
 }

@@ -27,17 +27,27 @@ struct Params {
   int optimize_sweeps = 4;  ///< sweeps of per-node worst-Jacobian optimization (§5.2); 0 = none [0, 100]
 };
 
-/// A tensor-product control mesh (the T-mesh of one cube without T-junctions yet).
+using Vec3 = std::array<double, 3>;
+
+/// One block of the control mesh: a clamped tensor-product B-spline over a hexahedral region of one
+/// cube's parameter domain [0,1]^3. Without pillowing a cube is one block; pillowing (§5.2) makes
+/// it a core box plus one slab per boundary face (see pillow.h). Blocks sharing a face have the
+/// same control points there (same `function_ids`), so the spline is C0 across block faces and C2
+/// inside a block (the repeated knots of the paper's zero-length edges, on whole block faces).
 struct TMesh {
-  int level = 0;
+  int level = 0;   ///< octree level of the cube (2^level elements per direction of the core)
   int degree = 3;
   std::array<std::vector<double>, 3> knots;            ///< clamped knot vectors on [0,1]
   std::array<int, 3> size{0, 0, 0};                    ///< control points per direction
   std::vector<std::array<double, 3>> control_points;   ///< index i + size0*(j + size1*k)
-  std::vector<std::array<double, 3>> parameters;       ///< Greville point of each control point
-  /// Per cube face 2*axis + side: 1 if it lies on the input surface (0: shared with another cube).
+  std::vector<std::array<double, 3>> parameters;       ///< Greville point of each control point (block parameters)
+  /// Per block face 2*axis + side: 1 if it lies on the input surface.
   std::array<int, 6> boundary{1, 1, 1, 1, 1, 1};
   int component = 0;                                   ///< the split component (cube) it belongs to
+  /// The block's corners in its cube's parameters (index a + 2b + 4c); block parameters map to
+  /// cube parameters trilinearly. Default: the whole cube.
+  std::array<Vec3, 8> corners{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}}};
+  std::string kind = "cube";                           ///< "cube" (not pillowed), "core" or "pillow"
   /// Global basis-function id of each control point. Blocks (tensor patches) that share a face
   /// have identical control points there and give them the same id, so the spline is C0 across
   /// the face. Empty: ids are numbered block after block (no sharing).
@@ -46,11 +56,28 @@ struct TMesh {
 };
 
 /// A map from the unit cube's parameters to physical space.
-using PointMap = std::function<std::array<double, 3>(const std::array<double, 3>&)>;
+using PointMap = std::function<Vec3(const Vec3&)>;
 
-/// Builds the control mesh by interpolating `map` at the Greville points. Throws core::ConfigError
-/// for parameters out of range.
-TMesh build(const polycube::VolumeMap& map, const Params& params);
+/// The polycube as the T-mesh sees it: its cubes, which of their faces lie on the surface, and
+/// two maps of (cube, parameters in [0,1]^3): to physical space (the volume map) and to polycube
+/// space (the embedding; equal points there are the same point of the solid, which is how blocks
+/// of neighbouring cubes find their shared control points).
+struct PolycubeMaps {
+  std::vector<std::array<int, 6>> boundary;  ///< per cube, per face 2*axis + side: 1 on the surface
+  std::function<Vec3(int, const Vec3&)> physical;
+  std::function<Vec3(int, const Vec3&)> polycube;
+};
+
+/// Builds the control mesh of every cube: its blocks (pillowed if params.pillow_layers > 0), each
+/// a B-spline interpolating the volume map at its Greville points; shared control points get one
+/// id and one position. Throws core::ConfigError for parameters out of range and
+/// core::NumericalError if the maps fail (a point outside the volume map).
+std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params);
+
+/// One block by interpolation of `map` (block parameters -> physical) at its Greville points.
+TMesh build_block(const PointMap& map, int degree, const std::array<int, 3>& elements);
+
+/// Builds the control mesh of one unpillowed cube by interpolating `map` at the Greville points.
 TMesh build(const PointMap& map, const Params& params);
 
 /// Scaled Jacobian of a trilinear hexahedron at its 8 corners (Liu et al. eq. (1)–(2)); corners in
@@ -59,12 +86,25 @@ double trilinear_min_scaled_jacobian(const std::array<std::array<double, 3>, 8>&
 
 core::Json to_json(const TMesh& t);
 TMesh from_json(const core::Json& j, const std::string& file);
-core::Json report_figures(const std::vector<TMesh>& t, double min_scaled_jacobian);
+/// Report keys: nodes (global functions), control_points, cubes, blocks, elements, max_level,
+/// irregular_nodes_surface, irregular_nodes_interior, min_scaled_jacobian_before/after.
+core::Json report_figures(const std::vector<TMesh>& t, double min_sj_before, double min_sj_after);
 
-/// ParaView view: the octree elements as trilinear hexes at their mapped corners, with `level` and
-/// `scaled_jacobian` per cell. Returns the minimum scaled Jacobian of these elements.
-double write_vtu(const std::string& path, const TMesh& t, const polycube::VolumeMap& map);
-/// The same for several cubes, each with its own map; cell field `component` added.
-double write_vtu(const std::string& path, const std::vector<TMesh>& t, const std::vector<PointMap>& maps);
+/// Node counts of the control mesh (nodes = global functions): a surface node is irregular if its
+/// number of neighbours on the surface is not 4, an interior node if its number of neighbours is not 6.
+struct NodeCounts {
+  int nodes = 0, surface = 0, irregular_surface = 0, irregular_interior = 0;
+};
+NodeCounts count_nodes(const std::vector<TMesh>& t);
+
+/// Minimum scaled Jacobian (eq. (1)–(2)) of the T-mesh elements of `t` as trilinear hexes: each
+/// element's corners are the spline at its knot-grid corners (before optimization, the volume map
+/// there, up to the interpolation error). The control net itself is not used: the control
+/// polygon of a smooth map can be degenerate where the spline is not (u² has c1 = 0 at a clamped end).
+double min_element_scaled_jacobian(const TMesh& t);
+
+/// ParaView view: the T-mesh elements as trilinear hexes, with `scaled_jacobian`, `component`,
+/// `block` and `pillow` per cell. Returns the minimum scaled Jacobian of these hexes.
+double write_vtu(const std::string& path, const std::vector<TMesh>& t);
 
 }  // namespace volts::tmesh

@@ -1,0 +1,40 @@
+// volts::tmesh — pillowing (Liu et al. 2013 §5.2, Fig. 9): one sheet of elements inserted under
+// every face of a cube that lies on the surface. A cube edge on a smooth part of the surface is a
+// 90° angle of the polycube flattened to 180° by the map, which leaves the elements along it with
+// a near-zero Jacobian; the pillow splits that angle between two elements (45° each in the
+// polycube, 90° each after the map) and leaves no element with two faces on the surface. For a
+// torus cube (surface on four faces) this is the paper's circumferential pillow.
+//
+// A cube becomes blocks: a core box, and per boundary face a slab between the face and the core
+// whose sides toward the neighbouring boundary faces are the diagonal planes through the cube
+// edge. Every block is a trilinear image of the unit cube with its own element counts; blocks
+// meeting on a face have the same bilinear face and the same element counts on it.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "tmesh/tmesh.h"
+
+namespace volts::tmesh {
+
+/// A block of a cube: corners in cube parameters (index a + 2b + 4c), elements per direction,
+/// per block face 2*axis + side whether it lies on the surface, and whether it is a pillow slab.
+struct Block {
+  std::array<Vec3, 8> corners;
+  std::array<int, 3> elements{1, 1, 1};
+  std::array<int, 6> boundary{0, 0, 0, 0, 0, 0};
+  bool pillow = false;
+};
+
+/// The blocks of a cube with `elements` per direction and surface faces `boundary`: the cube
+/// itself if layers == 0, else the core (the `elements` counts) and one slab of `layers` elements
+/// per surface face. The pillow's parametric thickness is that of `layers` core elements, so the
+/// parameter spacing stays uniform across the cube. Throws core::ConfigError if layers < 0 or an
+/// element count < 1.
+std::vector<Block> cube_blocks(const std::array<int, 6>& boundary, const std::array<int, 3>& elements, int layers);
+
+/// Cube parameters of block parameters uvw (trilinear in the corners).
+Vec3 block_point(const std::array<Vec3, 8>& corners, const Vec3& uvw);
+
+}  // namespace volts::tmesh
