@@ -14,6 +14,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
@@ -124,6 +125,36 @@ vtkSmartPointer<vtkUnstructuredGrid> read_grid(const std::string& path) {
     throw core::InvalidInputError(path + ": malformed .vtu file" + (m.empty() ? std::string() : ": " + m.substr(m.rfind('\n') + 1)));
   }
   vtkSmartPointer<vtkUnstructuredGrid> grid = reader->GetOutput();
+  // A truncated appended section can read "successfully" with short or garbage arrays (VTK fills
+  // what it has): check the cell structure before anything walks it (VTK's own writer crashed on
+  // a cut bezier.vtu).
+  vtkCellArray* cells = grid->GetCells();
+  const vtkIdType nc = grid->GetNumberOfCells(), np = grid->GetNumberOfPoints();
+  if (nc != reader->GetNumberOfCells() || np != reader->GetNumberOfPoints() || (nc > 0 && !grid->GetPoints()))
+    throw core::InvalidInputError(path + ": malformed .vtu file: it declares " + std::to_string(reader->GetNumberOfCells()) + " cells and " +
+                                  std::to_string(reader->GetNumberOfPoints()) + " points but holds " + std::to_string(nc) + " and " +
+                                  std::to_string(np) + " (truncated file?)");
+  if (nc == 0 || !cells) throw core::InvalidInputError(path + ": malformed .vtu file: no cells");
+  {
+    vtkDataArray* offsets = cells ? cells->GetOffsetsArray() : nullptr;
+    vtkDataArray* conn = cells ? cells->GetConnectivityArray() : nullptr;
+    vtkUnsignedCharArray* types = grid->GetCellTypesArray();
+    if (!offsets || !conn || !types || offsets->GetNumberOfTuples() != nc + 1 || types->GetNumberOfTuples() < nc)
+      throw core::InvalidInputError(path + ": malformed .vtu file: the cell arrays are incomplete (truncated file?)");
+    vtkIdType prev = 0;
+    for (vtkIdType c = 0; c <= nc; ++c) {
+      const auto o = static_cast<vtkIdType>(offsets->GetComponent(c, 0));
+      if (o < prev || o > conn->GetNumberOfTuples())
+        throw core::InvalidInputError(path + ": malformed .vtu file: cell offsets out of order or past the connectivity (truncated file?)");
+      prev = o;
+    }
+    for (vtkIdType i = 0; i < conn->GetNumberOfTuples(); ++i) {
+      const double id = conn->GetComponent(i, 0);
+      if (!(id >= 0 && id < static_cast<double>(np)))
+        throw core::InvalidInputError(path + ": malformed .vtu file: a cell refers to point " + std::to_string(static_cast<long long>(id)) +
+                                      " of " + std::to_string(np));
+    }
+  }
   return grid;
 }
 
