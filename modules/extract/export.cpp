@@ -245,7 +245,7 @@ std::size_t write_gmsh(const std::string& path, const std::vector<bezier::Bezier
   for (const auto& h : hexes)
     for (const auto& x : h.points) box.extend(x);
   const double diagonal = box.diagonal().norm();
-  const double tol = 1e-12 * std::max(diagonal, std::numeric_limits<double>::min());
+  const double tol = std::max(point_tolerance(box, 1e-12), std::numeric_limits<double>::min());
   // Merge on a grid of cells much larger than tol: a match is in the same or a neighbouring cell.
   const double cell = std::max(1e-6 * diagonal, 1e3 * tol);
   struct KeyHash {

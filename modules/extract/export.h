@@ -45,7 +45,7 @@ int gmsh_hex_type(int order);
 
 /// bezier.msh: MSH 4.1 ASCII, one volume entity (physical group 1 "volts"), Lagrange hexahedra of
 /// the hexes' degree whose nodes are the Bézier elements evaluated at Gmsh's nodes (exact for
-/// polynomial elements). Nodes closer than 1e-12 × bounding-box diagonal are merged, so
+/// polynomial elements). Nodes closer than point_tolerance(bbox, 1e-12) are merged, so
 /// neighbouring elements share their nodes. Throws core::InvalidInputError for rational
 /// elements (weights cannot be stored), mixed or anisotropic degrees, or a degree outside 1..3.
 /// Returns the number of nodes written.

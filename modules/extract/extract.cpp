@@ -68,6 +68,12 @@ class RowCanon {
 
 }  // namespace
 
+double point_tolerance(const Eigen::AlignedBox3d& box, double rel) {
+  if (box.isEmpty()) return 0.0;
+  const double magnitude = std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
+  return rel * box.diagonal().norm() + 64 * std::numeric_limits<double>::epsilon() * magnitude;
+}
+
 GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<bezier::BezierHex>& hexes) {
   const std::vector<std::vector<int>> ids = function_ids(ts);
   GlobalBasis g;
@@ -79,7 +85,7 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
       box.extend(Eigen::Vector3d(ts[b].control_points[i][0], ts[b].control_points[i][1], ts[b].control_points[i][2]));
     }
   const double diagonal = box.isEmpty() ? 0.0 : box.diagonal().norm();
-  const double tol = 1e-12 * std::max(diagonal, std::numeric_limits<double>::min());
+  const double tol = point_tolerance(box, 1e-12);
   g.points.assign(count, Eigen::Vector3d::Zero());
   g.weights.assign(count, 1.0);
   std::vector<int> owner(count, -1);  // block that first gave the function its point
@@ -153,13 +159,18 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
             }
           const double pou = (sums.array() - 1.0).abs().maxCoeff();
           g.partition_of_unity_error = std::max(g.partition_of_unity_error, pou);
-          if (!(pou <= 1e-12)) throw core::NumericalError(name + ": its extraction operator is no partition of unity (a column sum is off 1 by " +
-                                                          std::to_string(pou) + ", allowed 1e-12)");
+          if (!(pou <= 1e-12)) {
+            char msg[64];
+            std::snprintf(msg, sizeof msg, "%.1e, allowed 1e-12)", pou);
+            throw core::NumericalError(name + ": its extraction operator is no partition of unity (a column sum is off 1 by " + msg);
+          }
           double dev = 0;
           for (int i = 0; i < q * q * q; ++i) dev = std::max(dev, (bez.row(i).transpose() - h.points[i]).norm());
-          if (!(dev <= tol))
-            throw core::NumericalError(name + ": Cᵀ·P misses its Bézier control points by " + std::to_string(dev / std::max(diagonal, 1e-300)) +
-                                       " of the bounding-box diagonal (allowed 1e-12)");
+          if (!(dev <= tol)) {
+            char msg[96];
+            std::snprintf(msg, sizeof msg, " by %.1e (%.1e of the bounding-box diagonal; allowed %.1e)", dev, dev / std::max(diagonal, 1e-300), tol);
+            throw core::NumericalError(name + ": Cᵀ·P misses its Bézier control points" + msg);
+          }
           g.elements.push_back(std::move(el));
         }
   }

@@ -10,6 +10,7 @@
 // at irregular nodes are issue 8 item 1.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <Eigen/Sparse>
 #include <string>
 #include <vector>
@@ -71,12 +72,16 @@ struct Result {
   double volume_rel_error = 0;  ///< |spline_volume - surface_volume| / surface_volume
 };
 
+/// Distance under which two points of a model in `box` count as equal: rel × its diagonal, plus
+/// 64 ulps of its largest coordinate (a part far from the origin cannot be resolved finer).
+double point_tolerance(const Eigen::AlignedBox3d& box, double rel);
+
 /// The global basis of the blocks `t` and the extraction operator of each of their elements, in
 /// the order of `hexes` (block after block, u fastest, then v, then w; = extract_bezier_hexes per
 /// block). Function ids are TMesh::function_ids, or numbered block after block where empty.
 /// 1-D operators equal within 1e-14 are made identical (uniform knots: bit-identical rows, so
 /// exporters can share coefficient vectors). Checks every element: each column of C sums to 1
-/// within 1e-12, and Cᵀ·P equals the hex's Bézier points within 1e-12 × bounding-box diagonal.
+/// within 1e-12, and Cᵀ·P equals the hex's Bézier points within point_tolerance(bbox, 1e-12).
 /// Throws core::InvalidInputError for ids that do not match the control points (wrong count, an
 /// unused id, one id with two different points), core::NumericalError naming the element if a
 /// check fails.

@@ -197,3 +197,11 @@ TEST_F(Exports, HistogramPngReadsBackWithItsSizeAndBars) {
   EXPECT_FALSE(blue(20 + 380 * 9 / 40, 22));  // bin 4: empty
   EXPECT_THROW(extract::write_histogram_png(path, {}, {0, -1, 1, 420, 260}), core::InvalidInputError);
 }
+
+TEST_F(Exports, MshStillMergesItsNodesFarFromTheOrigin) {
+  std::vector<bezier::BezierHex> far = r.hexes;
+  for (auto& h : far)
+    for (auto& p : h.points) p += Eigen::Vector3d(1e5, -2e5, 5e4);
+  const std::string path = (dir / "far.msh").string();
+  EXPECT_EQ(extract::write_gmsh(path, far), 13u * 7u * 7u);
+}

@@ -102,3 +102,14 @@ TEST(GlobalBasis, HexThatDoesNotReproduceIsANumericalErrorNamingTheElement) {
     EXPECT_NE(std::string(e.what()).find("element 5 "), std::string::npos) << e.what();
   }
 }
+
+// CAD parts sit far from the origin: the checks must not flag rounding at the size of the coordinates.
+TEST(GlobalBasis, FarFromTheOriginStillPassesItsChecks) {
+  auto ts = test::two_blocks();
+  for (auto& t : ts)
+    for (auto& p : t.control_points) p = {p[0] + 1e5, p[1] - 2e5, p[2] + 5e4};
+  const auto hexes = test::hexes_of(ts);
+  extract::GlobalBasis g;
+  EXPECT_NO_THROW(g = extract::global_basis(ts, hexes));
+  EXPECT_LT(g.partition_of_unity_error, 1e-14);
+}
