@@ -1,8 +1,12 @@
 // volts-polycube: stage 3 (Liu et al. §4.2–4.3). Reads split.stage.json, builds the polycube and
-// maps the surface onto it; writes polycube.stage.json, polycube.vtp and polycube_mapped.vtp.
+// maps the surface onto it; writes polycube.stage.json, polycube.vtp and polycube_mapped.vtp
+// (tori and two tori also the volume map's tets: polycube_tets.vtu, polycube_tets_mapped.vtu).
+#include <algorithm>
+
 #include "core/log.h"
 #include "polycube/embedding.h"
 #include "polycube/polycube.h"
+#include "polycube/rings.h"
 #include "volmap/volmap.h"
 #include "stage_main.h"
 #include "surface/mesh_json.h"
@@ -13,25 +17,32 @@ namespace {
 
 // A torus (Liu et al. §4.2, Fig. 5(b)): patch maps on the ring embedding, then the harmonic volume
 // map of the tet mesh onto it, untangled (§4.3).
-core::Json torus(pipeline::StageContext& ctx, const core::Json& j, const split::Decomposition& d) {
-  polycube::TorusSurfaceMap m;
+// The surface and volume map of one torus (its layout triangles, fills included, are its closed
+// surface), logged under `what`.
+void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const std::string& what, polycube::TorusSurfaceMap& m,
+               volmap::VolumeMap& vm) {
   {
-    core::LogSection s("surface map");
+    core::LogSection s(what + "surface map");
     polycube::PatchMapParams pp;
     pp.weights = ctx.config.polycube.weights;
     m = polycube::map_torus_surface(d, pp);
   }
   if (m.flipped_surface_triangles > 0)
-    core::log_warning(std::to_string(m.flipped_surface_triangles) + " surface triangles are flipped by the map");
-  volmap::VolumeMap vm;
+    core::log_warning(what + std::to_string(m.flipped_surface_triangles) + " surface triangles are flipped by the map");
   {
-    core::LogSection s("volume map");
-    volmap::Params vp;
-    vp.tetgen.max_volume_rel = ctx.config.polycube.tet_max_volume_rel;
-    vm = volmap::harmonic_volume_map(split::layout_mesh(d.layout, false), m.embedding.points, vp);
+    core::LogSection s(what + "volume map");
+    vm = polycube::torus_volume_map(d, m, ctx.config.polycube);
   }
   if (vm.flipped_tets > 0)
-    core::log_warning(std::to_string(vm.flipped_tets) + " tets stay flipped after untangling; lower polycube.tet_max_volume_rel");
+    core::log_warning(what + std::to_string(vm.flipped_tets) + " tets stay flipped after untangling; lower polycube.tet_max_volume_rel");
+}
+
+// A torus (Liu et al. §4.2, Fig. 5(b)): patch maps on the ring embedding, then the harmonic volume
+// map of the tet mesh onto it, untangled (§4.3).
+core::Json torus(pipeline::StageContext& ctx, const core::Json& j, const split::Decomposition& d) {
+  polycube::TorusSurfaceMap m;
+  volmap::VolumeMap vm;
+  map_torus(ctx, d, "", m, vm);
   {
     core::LogSection s("write");
     core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
@@ -48,6 +59,47 @@ core::Json torus(pipeline::StageContext& ctx, const core::Json& j, const split::
   r["virtual_components"] = 0;
   r["flipped_surface_triangles"] = m.flipped_surface_triangles;
   r["max_angle_distortion_deg"] = m.max_angle_distortion_deg;
+  return r;
+}
+
+// Two tori united on a filled disk (Liu et al. §4.2, Fig. 6(c)): each torus with the disk is
+// mapped like a single torus, on its own ring; the disk gets one (independent) image per ring.
+core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::Decomposition& d) {
+  const std::vector<polycube::Ring> rings = polycube::rings(d);
+  std::vector<polycube::TorusSurfaceMap> ms(rings.size());
+  std::vector<volmap::VolumeMap> vms(rings.size());
+  for (std::size_t i = 0; i < rings.size(); ++i) map_torus(ctx, rings[i].decomposition, "ring " + std::to_string(i) + ": ", ms[i], vms[i]);
+  core::Json list = core::Json::array(), figures = core::Json::array();
+  std::vector<const volmap::VolumeMap*> maps;
+  std::vector<std::array<double, 3>> offsets;
+  core::Json r{{"cubes", d.components.size()}, {"tori", rings.size()}, {"virtual_components", 0}, {"flipped_surface_triangles", 0},
+               {"max_angle_distortion_deg", 0.0}, {"tets", 0}, {"flipped_tets", 0}, {"flipped_tets_before_untangling", 0}};
+  for (std::size_t i = 0; i < rings.size(); ++i) {
+    list.push_back(polycube::to_json(rings[i], ms[i], vms[i]));
+    maps.push_back(&vms[i]);
+    offsets.push_back({polycube::kRingSpacing * static_cast<double>(i), 0, 0});
+    core::Json f = volmap::report_figures(vms[i]);
+    f["flipped_surface_triangles"] = ms[i].flipped_surface_triangles;
+    f["max_angle_distortion_deg"] = ms[i].max_angle_distortion_deg;
+    figures.push_back(f);
+    r["flipped_surface_triangles"] = r["flipped_surface_triangles"].get<int>() + ms[i].flipped_surface_triangles;
+    r["max_angle_distortion_deg"] = std::max(r["max_angle_distortion_deg"].get<double>(), ms[i].max_angle_distortion_deg);
+    r["tets"] = r["tets"].get<std::size_t>() + vms[i].tets.size();
+    r["flipped_tets"] = r["flipped_tets"].get<int>() + vms[i].flipped_tets;
+    r["flipped_tets_before_untangling"] = r["flipped_tets_before_untangling"].get<int>() + vms[i].flipped_tets_before_untangling;
+    r["min_volume_ratio"] = i == 0 ? vms[i].min_volume_ratio : std::min(r["min_volume_ratio"].get<double>(), vms[i].min_volume_ratio);
+  }
+  r["rings"] = figures;
+  {
+    core::LogSection s("write");
+    core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
+                           {{"kind", "tori"}, {"surface", j["surface"]}, {"classification", j["classification"]},
+                            {"decomposition", j["decomposition"]}, {"rings", list}});
+    polycube::write_rings_vtp(ctx.path("polycube.vtp"), rings, ms, false);
+    polycube::write_rings_vtp(ctx.path("polycube_mapped.vtp"), rings, ms, true);
+    volmap::write_vtu(ctx.path("polycube_tets.vtu"), maps, offsets, "ring");
+    volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), maps, offsets, "ring");
+  }
   return r;
 }
 
@@ -69,6 +121,7 @@ int main(int argc, char** argv) {
         pipeline::check_classification(in, mesh, c);
         pipeline::check_decomposition(in, c, d);
         if (d.tori.size() == 1 && d.components.size() == d.tori[0].components.size()) return torus(ctx, j, d);
+        if (!d.tori.empty()) return tori(ctx, j, d);  // two tori on a disk, else a TopologyError naming the components
         polycube::Polycube p;
         {
           core::LogSection s("surface map");

@@ -135,24 +135,31 @@ core::Json to_json(const TorusSurfaceMap& m) {
                     {"max_angle_distortion_deg", m.max_angle_distortion_deg}};
 }
 
-void write_torus_vtp(const std::string& path, const split::Decomposition& d, const TorusSurfaceMap& m, bool mapped) {
+viz::PolyData torus_polydata(const split::Decomposition& d, const TorusSurfaceMap& m, bool mapped, const std::array<double, 3>& offset) {
   const split::Layout& L = d.layout;
   std::vector<int> comp(L.triangles.size(), -1);
   for (std::size_t c = 0; c < d.components.size(); ++c)
     for (int p : d.components[c].patches)
       for (int t : L.patches[p].triangles) comp[t] = static_cast<int>(c);
+  std::vector<Vec3> at = m.embedding.points;
+  for (auto& p : at)
+    for (int k = 0; k < 3; ++k) p[k] += offset[k];
   viz::PolyData v;
-  v.points = mapped ? m.embedding.points : L.points;
-  viz::Field other{mapped ? "xyz" : "uvw", 3, {}}, cf{"component_id", 1, {}};
-  for (const auto& p : mapped ? L.points : m.embedding.points) other.values.insert(other.values.end(), p.begin(), p.end());
+  v.points = mapped ? at : L.points;
+  viz::Field other{mapped ? "xyz" : "uvw", 3, {}}, cf{"component_id", 1, {}}, ff{"filled", 1, {}};
+  for (const auto& p : mapped ? L.points : at) other.values.insert(other.values.end(), p.begin(), p.end());
   for (std::size_t t = 0; t < L.triangles.size(); ++t) {
-    if (L.filled[t]) continue;
     v.polys.push_back({L.triangles[t][0], L.triangles[t][1], L.triangles[t][2]});
     cf.values.push_back(comp[t]);
+    ff.values.push_back(L.filled[t]);
   }
   v.point_fields = {other};
-  v.cell_fields = {cf};
-  viz::write_vtp(path, v);
+  v.cell_fields = {cf, ff};
+  return v;
+}
+
+void write_torus_vtp(const std::string& path, const split::Decomposition& d, const TorusSurfaceMap& m, bool mapped) {
+  viz::write_vtp(path, torus_polydata(d, m, mapped, {0, 0, 0}));
 }
 
 }  // namespace volts::polycube

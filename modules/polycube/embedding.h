@@ -18,6 +18,7 @@
 
 #include "polycube/patch_map.h"
 #include "split/split.h"
+#include "viz/viz.h"
 
 namespace volts::polycube {
 
@@ -53,8 +54,12 @@ TorusSurfaceMap map_torus_surface(const split::Decomposition& d, const PatchMapP
 /// Stage-file payload: {"kind": "torus", "ring", "mirrored", "cells", "corner_vertex", "points", figures}.
 core::Json to_json(const TorusSurfaceMap& m);
 
-/// ParaView views: the segmented surface with the embedding point `uvw` per point and
-/// `component_id` per cell, drawn at its physical positions, or (mapped) at its embedding.
+/// ParaView view: the segmented surface (fill triangles included) with the embedding point moved
+/// by `offset` as point field `uvw` (`xyz`: the physical one, if mapped) and the cell fields
+/// `component_id` and `filled`, drawn at its physical positions, or (mapped) at the moved embedding.
+viz::PolyData torus_polydata(const split::Decomposition& d, const TorusSurfaceMap& m, bool mapped, const std::array<double, 3>& offset);
+
+/// torus_polydata without offset, written to `path`. Throws core::IoError.
 void write_torus_vtp(const std::string& path, const split::Decomposition& d, const TorusSurfaceMap& m, bool mapped);
 
 }  // namespace volts::polycube

@@ -38,6 +38,42 @@ std::vector<double> arc_length_fractions(const split::Layout& L, const std::vect
   return s;
 }
 
+std::vector<char> consistent_orientation(const split::Layout& L, const std::vector<int>& triangles) {
+  std::vector<char> rev(triangles.size(), 0), seen(triangles.size(), 0);
+  std::map<std::pair<int, int>, std::vector<int>> by_edge;
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    const auto& tr = L.triangles[triangles[i]];
+    for (int k = 0; k < 3; ++k) by_edge[{std::min(tr[k], tr[(k + 1) % 3]), std::max(tr[k], tr[(k + 1) % 3])}].push_back(static_cast<int>(i));
+  }
+  auto has_directed = [&](int i, int a, int b) {  // triangle i, as oriented now, runs a -> b
+    const auto& tr = L.triangles[triangles[i]];
+    for (int k = 0; k < 3; ++k)
+      if (tr[k] == a && tr[(k + 1) % 3] == b) return !rev[i];
+    return static_cast<bool>(rev[i]);
+  };
+  for (std::size_t start = 0; start < triangles.size(); ++start) {
+    if (seen[start]) continue;
+    seen[start] = 1;
+    std::vector<int> stack = {static_cast<int>(start)};
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      const auto& tr = L.triangles[triangles[i]];
+      for (int k = 0; k < 3; ++k) {
+        const int a = tr[k], b = tr[(k + 1) % 3];
+        for (int j : by_edge[{std::min(a, b), std::max(a, b)}]) {
+          if (seen[j]) continue;
+          seen[j] = 1;
+          // i runs a -> b (or b -> a); j must run the other way.
+          rev[j] = has_directed(j, a, b) == has_directed(i, a, b);
+          stack.push_back(j);
+        }
+      }
+    }
+  }
+  return rev;
+}
+
 std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapParams& params) {
   if (params.weights != "mean-value" && params.weights != "uniform")
     throw core::ConfigError("polycube.weights must be 'mean-value' or 'uniform', not '" + params.weights + "'");
@@ -110,43 +146,8 @@ std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapP
         if (unknown[v] >= 0) m.st[v] = {x(unknown[v], 0), x(unknown[v], 1)};
     }
     // One consistent orientation of the patch's triangles (a patch may hold fill triangles stored
-    // the other way round: the disk where two tori meet), by walking across shared edges.
-    std::vector<char> rev(P.triangles.size(), 0), seen(P.triangles.size(), 0);
-    {
-      std::map<std::pair<int, int>, std::vector<int>> by_edge;
-      for (std::size_t i = 0; i < P.triangles.size(); ++i) {
-        const auto& tr = L.triangles[P.triangles[i]];
-        for (int k = 0; k < 3; ++k) by_edge[{std::min(tr[k], tr[(k + 1) % 3]), std::max(tr[k], tr[(k + 1) % 3])}].push_back(static_cast<int>(i));
-      }
-      auto has_directed = [&](int i, int a, int b) {  // triangle i, as oriented now, runs a -> b
-        const auto& tr = L.triangles[P.triangles[i]];
-        for (int k = 0; k < 3; ++k)
-          if (tr[k] == a && tr[(k + 1) % 3] == b) return !rev[i];
-        return static_cast<bool>(rev[i]);
-      };
-      for (std::size_t start = 0; start < P.triangles.size(); ++start) {
-        if (seen[start]) continue;
-        seen[start] = 1;
-        std::vector<int> stack = {static_cast<int>(start)};
-        while (!stack.empty()) {
-          const int i = stack.back();
-          stack.pop_back();
-          const auto& tr = L.triangles[P.triangles[i]];
-          for (int k = 0; k < 3; ++k) {
-            const int a = tr[k], b = tr[(k + 1) % 3];
-            for (int j : by_edge[{std::min(a, b), std::max(a, b)}]) {
-              if (seen[j]) continue;
-              seen[j] = 1;
-              // i runs a -> b (or b -> a); j must run the other way.
-              const bool i_ab = has_directed(i, a, b);
-              rev[j] = 0;
-              if (has_directed(j, a, b) == i_ab) rev[j] = 1;
-              stack.push_back(j);
-            }
-          }
-        }
-      }
-    }
+    // the other way round: the disk where two tori meet).
+    const std::vector<char> rev = consistent_orientation(L, P.triangles);
     // Flips: every triangle must turn like the majority in the square (exact predicate).
     using K = CGAL::Exact_predicates_inexact_constructions_kernel;
     int positive = 0, negative = 0;

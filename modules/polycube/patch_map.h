@@ -32,6 +32,11 @@ struct PatchMapParams {
 /// core::NumericalError if a patch's linear system cannot be solved.
 std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapParams& params);
 
+/// Per triangle (layout ids), 1 if it must be reversed to turn like its neighbours across shared
+/// edges, walking outwards from each connected piece's first triangle in the list (which keeps its
+/// orientation). Fill triangles are stored once but bound two solids, the other way round in one.
+std::vector<char> consistent_orientation(const split::Layout& layout, const std::vector<int>& triangles);
+
 /// Arc-length fraction of each vertex along a vertex chain (0 at the first, 1 at the last).
 std::vector<double> arc_length_fractions(const split::Layout& layout, const std::vector<int>& chain);
 

@@ -66,7 +66,54 @@ std::vector<Eigen::Vector3d> points(const core::Json& j, const std::string& key,
   return r;
 }
 
+viz::UnstructuredGrid several(const std::vector<const VolumeMap*>& maps, const std::vector<std::array<double, 3>>& offsets,
+                              bool in_parameter_space, const std::string& index_field) {
+  if (offsets.size() != maps.size())
+    throw core::InvalidInputError("volmap: " + std::to_string(offsets.size()) + " offsets for " + std::to_string(maps.size()) + " maps");
+  viz::UnstructuredGrid all;
+  viz::Field index{index_field, 1, {}};
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    viz::UnstructuredGrid g = grid(*maps[i], in_parameter_space, {});
+    const auto& o = offsets[i];
+    if (in_parameter_space) {
+      for (auto& p : g.points)
+        for (int k = 0; k < 3; ++k) p[k] += o[k];
+    } else {
+      auto& uvw = g.point_fields[0].values;
+      for (std::size_t v = 0; v < uvw.size(); ++v) uvw[v] += o[v % 3];
+    }
+    const int offset = static_cast<int>(all.points.size());
+    for (auto& c : g.cells)
+      for (int& x : c) x += offset;
+    all.points.insert(all.points.end(), g.points.begin(), g.points.end());
+    all.cells.insert(all.cells.end(), g.cells.begin(), g.cells.end());
+    all.cell_types.insert(all.cell_types.end(), g.cell_types.begin(), g.cell_types.end());
+    if (i == 0) {
+      all.point_fields = g.point_fields;
+      all.cell_fields = g.cell_fields;
+    } else {
+      for (std::size_t f = 0; f < g.point_fields.size(); ++f)
+        all.point_fields[f].values.insert(all.point_fields[f].values.end(), g.point_fields[f].values.begin(), g.point_fields[f].values.end());
+      for (std::size_t f = 0; f < g.cell_fields.size(); ++f)
+        all.cell_fields[f].values.insert(all.cell_fields[f].values.end(), g.cell_fields[f].values.begin(), g.cell_fields[f].values.end());
+    }
+    index.values.insert(index.values.end(), g.cells.size(), static_cast<double>(i));
+  }
+  all.cell_fields.push_back(std::move(index));
+  return all;
+}
+
 }  // namespace
+
+void write_vtu(const std::string& path, const std::vector<const VolumeMap*>& maps, const std::vector<std::array<double, 3>>& offsets,
+               const std::string& index_field) {
+  viz::write_vtu(path, several(maps, offsets, false, index_field));
+}
+
+void write_parameter_vtu(const std::string& path, const std::vector<const VolumeMap*>& maps,
+                         const std::vector<std::array<double, 3>>& offsets, const std::string& index_field) {
+  viz::write_vtu(path, several(maps, offsets, true, index_field));
+}
 
 void write_vtu(const std::string& path, const VolumeMap& map, const std::vector<int>& component) {
   viz::write_vtu(path, grid(map, false, component));

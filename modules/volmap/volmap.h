@@ -117,6 +117,14 @@ double parameter_volume(const VolumeMap& map, int t);
 /// core::InvalidInputError if `component` is neither empty nor one value per tet.
 void write_vtu(const std::string& path, const VolumeMap& map, const std::vector<int>& component = {});
 void write_parameter_vtu(const std::string& path, const VolumeMap& map, const std::vector<int>& component = {});
+/// Several maps in one view each (the rings of a polycube): map i's points follow map i-1's, its
+/// parameter positions are moved by offsets[i] (so mapped views do not overlap), its tets carry
+/// the cell field `index_field` = i; volume_ratio is relative to each map's own totals. Throws
+/// core::IoError, core::InvalidInputError if offsets has not one entry per map.
+void write_vtu(const std::string& path, const std::vector<const VolumeMap*>& maps, const std::vector<std::array<double, 3>>& offsets,
+               const std::string& index_field);
+void write_parameter_vtu(const std::string& path, const std::vector<const VolumeMap*>& maps,
+                         const std::vector<std::array<double, 3>>& offsets, const std::string& index_field);
 
 /// The map in a stage file: points, tets and figures. from_json throws core::InvalidInputError naming
 /// `file` and the key for missing or malformed members, wrong sizes, non-finite values and

@@ -1,0 +1,219 @@
+#include "polycube/rings.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "core/errors.h"
+
+namespace volts::polycube {
+
+namespace {
+
+std::string join(const std::vector<int>& v) {
+  std::string s;
+  for (int x : v) s += (s.empty() ? "" : ", ") + std::to_string(x);
+  return s;
+}
+
+std::string describe_tori(const split::Decomposition& d) {
+  std::string s;
+  for (std::size_t t = 0; t < d.tori.size(); ++t) s += (t ? "; torus " : "torus ") + std::to_string(t) + ": components " + join(d.tori[t].components);
+  return s.empty() ? "no torus" : s;
+}
+
+// Torus t of d with its own ids (see Ring).
+Ring make_ring(const split::Decomposition& d, int t) {
+  const split::Layout& L = d.layout;
+  const split::Torus& torus = d.tori[t];
+  const std::string who = "torus " + std::to_string(t) + " (components " + join(torus.components) + ")";
+  Ring r;
+  r.component = torus.components;
+  std::set<int> patch_set, face_set(torus.cross_sections.begin(), torus.cross_sections.end());
+  for (int c : torus.components) {
+    for (int p : d.components[c].patches) patch_set.insert(p);
+    for (const auto& f : d.components[c].faces) {
+      for (int p : f.patches) patch_set.insert(p);
+      if (f.internal_face >= 0) face_set.insert(f.internal_face);
+    }
+  }
+  // Triangles: surface ones first (the first keeps its orientation), then fills.
+  std::vector<int> surface_tris, fill_tris;
+  std::map<int, int> times;  // layout triangle -> patches of this torus holding it
+  for (int p : patch_set)
+    for (int x : L.patches[p].triangles) ++times[x];
+  for (const auto& [x, n] : times) {
+    if (n != 1)
+      throw core::TopologyError("polycube: triangle " + std::to_string(x) + " lies in " + std::to_string(n) + " patches of " + who);
+    (L.filled[x] ? fill_tris : surface_tris).push_back(x);
+  }
+  if (surface_tris.empty()) throw core::TopologyError("polycube: " + who + " has no surface triangle");
+  r.layout_triangle = surface_tris;
+  r.layout_triangle.insert(r.layout_triangle.end(), fill_tris.begin(), fill_tris.end());
+  const std::vector<char> rev = consistent_orientation(L, r.layout_triangle);
+  std::vector<int> local_v(L.points.size(), -1), local_t(L.triangles.size(), -1);
+  for (int x : r.layout_triangle)
+    for (int v : L.triangles[x]) local_v[v] = 0;
+  for (std::size_t v = 0; v < local_v.size(); ++v)
+    if (local_v[v] == 0) local_v[v] = static_cast<int>(r.layout_vertex.size()), r.layout_vertex.push_back(static_cast<int>(v));
+  auto vmap = [&](int v) {
+    if (v < 0 || v >= static_cast<int>(local_v.size()) || local_v[v] < 0)
+      throw core::TopologyError("polycube: vertex " + std::to_string(v) + " of " + who + " is on none of its triangles");
+    return local_v[v];
+  };
+  split::Decomposition& s = r.decomposition;
+  split::Layout& R = s.layout;
+  for (int v : r.layout_vertex) R.points.push_back(L.points[v]);
+  for (std::size_t i = 0; i < r.layout_triangle.size(); ++i) {
+    const int x = r.layout_triangle[i];
+    if (rev[i] && !L.filled[x])
+      throw core::TopologyError("polycube: the surface of " + who + " is not one consistently oriented piece (triangle " + std::to_string(x) + ")");
+    auto tr = L.triangles[x];
+    if (rev[i]) std::swap(tr[1], tr[2]);
+    R.triangles.push_back({local_v[tr[0]], local_v[tr[1]], local_v[tr[2]]});
+    R.filled.push_back(L.filled[x]);
+    local_t[x] = static_cast<int>(i);
+  }
+  auto map_sides = [&](auto& x) {
+    for (int& v : x.corners) v = vmap(v);
+    for (auto& side : x.sides)
+      for (int& v : side) v = vmap(v);
+  };
+  std::map<int, int> local_p, local_f;
+  for (int p : patch_set) {
+    split::Patch P = L.patches[p];
+    for (int& x : P.triangles) x = local_t[x];
+    std::sort(P.triangles.begin(), P.triangles.end());
+    map_sides(P);
+    local_p[p] = static_cast<int>(R.patches.size());
+    R.patches.push_back(std::move(P));
+  }
+  for (int f : face_set) {
+    split::InternalFace F = L.internal_faces.at(f);
+    map_sides(F);
+    for (int& v : F.loop) v = vmap(v);
+    local_f[f] = static_cast<int>(R.internal_faces.size());
+    R.internal_faces.push_back(std::move(F));
+  }
+  std::map<int, int> local_c;
+  for (int c : torus.components) {
+    split::Component C = d.components[c];
+    for (int& p : C.patches) p = local_p.at(p);
+    for (auto& f : C.faces) {
+      for (int& p : f.patches) p = local_p.at(p);
+      if (f.internal_face >= 0) f.internal_face = local_f.at(f.internal_face);
+      for (int& v : f.corners) v = vmap(v);
+    }
+    C.torus = 0;
+    local_c[c] = static_cast<int>(s.components.size());
+    s.components.push_back(std::move(C));
+  }
+  split::Torus T;
+  for (int c : torus.components) T.components.push_back(local_c.at(c));
+  for (int f : torus.cross_sections) T.cross_sections.push_back(local_f.at(f));
+  s.tori = {T};
+  for (const auto& c : d.contacts)
+    if (c.via == "internal_face" && local_c.count(c.a) && local_c.count(c.b))
+      s.contacts.push_back({local_c.at(c.a), local_c.at(c.b), c.via, local_f.at(c.index)});
+  s.quad_patches = static_cast<int>(R.patches.size());
+  s.genus = 1;
+  // Closed and manifold, else no volume map.
+  surface::Mesh m;
+  try {
+    m = split::layout_mesh(R, true);
+  } catch (const core::InvalidInputError& e) {
+    throw core::TopologyError("polycube: the surface of " + who + " is not manifold (" + e.what() + ")");
+  }
+  for (auto h : m.halfedges())
+    if (m.is_border(h))
+      throw core::TopologyError("polycube: the surface of " + who + " is not closed (open at layout vertex " +
+                                std::to_string(r.layout_vertex[static_cast<int>(m.target(h))]) + ")");
+  return r;
+}
+
+}  // namespace
+
+std::vector<Ring> rings(const split::Decomposition& d) {
+  const std::string unsupported = "; only one torus or two tori meeting on one filled disk can be mapped";
+  if (d.tori.size() != 2)
+    throw core::TopologyError("polycube: " + std::to_string(d.tori.size()) + " tori (" + describe_tori(d) + ")" + unsupported);
+  const int n = static_cast<int>(d.components.size());
+  std::vector<int> torus_of(n, -1);
+  for (int t = 0; t < 2; ++t)
+    for (int c : d.tori[t].components) {
+      if (c < 0 || c >= n) throw core::TopologyError("polycube: torus " + std::to_string(t) + " lists component " + std::to_string(c) + ", out of range");
+      if (torus_of[c] >= 0) throw core::TopologyError("polycube: component " + std::to_string(c) + " is in tori " + std::to_string(torus_of[c]) + " and " + std::to_string(t));
+      torus_of[c] = t;
+    }
+  for (int c = 0; c < n; ++c)
+    if (torus_of[c] < 0 || d.components[c].type != split::ComponentType::torus_cube)
+      throw core::TopologyError("polycube: component " + std::to_string(c) + " (" + split::to_string(d.components[c].type) +
+                                ") is not a cube of either torus (" + describe_tori(d) + ")" + unsupported);
+  int disks = 0;
+  for (const auto& c : d.contacts) {
+    if (c.a < 0 || c.a >= n || c.b < 0 || c.b >= n)
+      throw core::TopologyError("polycube: a contact names component " + std::to_string(std::max(c.a, c.b)) + ", out of range");
+    const std::string pair = "components " + std::to_string(c.a) + " (torus " + std::to_string(torus_of[c.a]) + ") and " + std::to_string(c.b) +
+                             " (torus " + std::to_string(torus_of[c.b]) + ") meet via " + c.via + " " + std::to_string(c.index);
+    if (torus_of[c.a] == torus_of[c.b]) {
+      if (c.via != "internal_face") throw core::TopologyError("polycube: " + pair + ", not a cross section of their torus");
+    } else {
+      if (c.via != "filled_patch") throw core::TopologyError("polycube: " + pair + unsupported);
+      ++disks;
+    }
+  }
+  if (disks != 1)
+    throw core::TopologyError("polycube: the tori meet on " + std::to_string(disks) + " filled disks (" + describe_tori(d) + ")" + unsupported);
+  std::vector<Ring> r;
+  for (int t = 0; t < 2; ++t) r.push_back(make_ring(d, t));
+  // Every fill triangle closes both tori: the disk lies in one patch of each.
+  for (std::size_t x = 0; x < d.layout.triangles.size(); ++x) {
+    if (!d.layout.filled[x]) continue;
+    for (int t = 0; t < 2; ++t)
+      if (std::find(r[t].layout_triangle.begin(), r[t].layout_triangle.end(), static_cast<int>(x)) == r[t].layout_triangle.end())
+        throw core::TopologyError("polycube: fill triangle " + std::to_string(x) + " is in no patch of torus " + std::to_string(t) +
+                                  " (components " + join(d.tori[t].components) + "): the tori do not meet on one filled disk");
+  }
+  return r;
+}
+
+volmap::VolumeMap torus_volume_map(const split::Decomposition& d, const TorusSurfaceMap& m, const Params& params) {
+  volmap::Params vp;
+  vp.tetgen.max_volume_rel = params.tet_max_volume_rel;
+  return volmap::harmonic_volume_map(split::layout_mesh(d.layout, true), m.embedding.points, vp);
+}
+
+core::Json to_json(const Ring& r, const TorusSurfaceMap& m, const volmap::VolumeMap& vm) {
+  return core::Json{{"components", r.component},
+                    {"layout_vertex", r.layout_vertex},
+                    {"layout_triangle", r.layout_triangle},
+                    {"polycube", to_json(m)},
+                    {"volume_map", volmap::to_json(vm)}};
+}
+
+void write_rings_vtp(const std::string& path, const std::vector<Ring>& rings, const std::vector<TorusSurfaceMap>& maps, bool mapped) {
+  if (rings.size() != maps.size()) throw std::logic_error("polycube: write_rings_vtp needs one map per ring");
+  viz::PolyData all;
+  all.point_fields = {{mapped ? "xyz" : "uvw", 3, {}}};
+  all.cell_fields = {{"component_id", 1, {}}, {"filled", 1, {}}, {"ring", 1, {}}};
+  for (std::size_t i = 0; i < rings.size(); ++i) {
+    const viz::PolyData v = torus_polydata(rings[i].decomposition, maps[i], mapped, {kRingSpacing * static_cast<double>(i), 0, 0});
+    const int offset = static_cast<int>(all.points.size());
+    all.points.insert(all.points.end(), v.points.begin(), v.points.end());
+    auto& pf = all.point_fields[0].values;
+    pf.insert(pf.end(), v.point_fields[0].values.begin(), v.point_fields[0].values.end());
+    for (std::size_t c = 0; c < v.polys.size(); ++c) {
+      std::vector<int> poly = v.polys[c];
+      for (int& x : poly) x += offset;
+      all.polys.push_back(std::move(poly));
+      const int local = static_cast<int>(v.cell_fields[0].values[c]);
+      all.cell_fields[0].values.push_back(local < 0 ? -1 : rings[i].component[local]);
+      all.cell_fields[1].values.push_back(v.cell_fields[1].values[c]);
+      all.cell_fields[2].values.push_back(static_cast<double>(i));
+    }
+  }
+  viz::write_vtp(path, all);
+}
+
+}  // namespace volts::polycube
