@@ -1,6 +1,7 @@
-// volts-extract's solver exports on the box pipeline (generated box, octree level 2), as a user
-// runs it: report figures of the global basis, every file of extract.exports next to bezier.vtu
-// and read back, gmsh accepting the .msh; extract.exports limits what is written.
+// volts-extract's solver exports on the box pipeline (generated box, octree level 2, no
+// optimization sweeps: seconds), as a user runs it: report figures of the global basis, functions
+// shared by blocks, every file of extract.exports next to bezier.vtu and read back, gmsh accepting
+// the .msh; extract.exports limits what is written.
 #include <gtest/gtest.h>
 
 #include <vtkImageData.h>
@@ -26,7 +27,7 @@ class Box : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir = test::fresh_dir("extract", "box");
-    test::write_text(dir / "run.yaml", "input: {generate: box, resolution: 8}\ntmesh: {level: 2}\n");
+    test::write_text(dir / "run.yaml", "input: {generate: box, resolution: 8}\ntmesh: {level: 2, optimize_sweeps: 0}\n");
     result = test::run(test::bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string());
   }
   static fs::path dir;
@@ -49,6 +50,24 @@ TEST_F(Box, ReportHasTheGlobalBasisFigures) {
   EXPECT_GT(frac, 0.5);  // a box: nearly all elements are good
   EXPECT_LE(frac, 1.0);
   for (const char* k : {"vtu", "bext", "k", "json", "msh", "png"}) EXPECT_TRUE(x["outputs"].contains(k)) << k;
+}
+
+// Blocks sharing faces (the pillowed cube) share functions: fewer global functions than control
+// points, and every global function is used by some element of bezier.json.
+TEST_F(Box, BlocksShareTheirFaceFunctions) {
+  ASSERT_EQ(result.code, 0) << result.output;
+  const fs::path w = dir / "work";
+  const core::Json t = core::read_stage_file((w / "tmesh.stage.json").string(), "volts-tmesh", 2);
+  std::size_t control_points = 0;
+  for (const auto& b : t["tmeshes"]) control_points += b["control_points"].size() / 3;
+  const core::Json j = core::read_stage_file((w / "bezier.json").string(), "volts-bezier", 1);
+  const std::size_t functions = j["global_functions"]["count"].get<std::size_t>();
+  if (t["tmeshes"].size() > 1) EXPECT_LT(functions, control_points);
+  else EXPECT_EQ(functions, control_points);
+  std::vector<int> used(functions, 0);
+  for (const auto& e : j["elements"])
+    for (const int f : e["functions"]) ++used.at(f);
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);
 }
 
 TEST_F(Box, BextAndMshAgreeWithTheReport) {
