@@ -7,7 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <functional>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <unordered_map>
@@ -20,15 +21,11 @@ namespace volts::extract {
 
 namespace {
 
-// Opens `tmp` for writing through `fill` and checks the stream: write_atomically renames it.
+// The file's text built in memory (a few MB at most), then written atomically.
 void write_stream(const std::string& path, const std::function<void(std::ostream&)>& fill) {
-  core::write_atomically(path, [&](const std::string& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw core::IoError(path + ": cannot open for writing");
-    fill(out);
-    out.close();
-    if (!out) throw core::IoError(path + ": write failed (disk full?)");
-  });
+  std::ostringstream out;
+  fill(out);
+  core::write_text_atomically(path, out.str());
 }
 
 // Fixed-width fields as in LS-DYNA's own .bext files: integers 8 wide (10 a line), reals 24 wide
