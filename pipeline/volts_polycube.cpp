@@ -110,7 +110,8 @@ int main(int argc, char** argv) {
       "Stage 3 (Liu et al. 2013 §4.2-4.3): build the polycube and map the surface onto it\n"
       "(bijective disk map per patch). Input: DIR/split.stage.json. Output: DIR/polycube.stage.json,\n"
       "DIR/polycube.vtp (surface with cube coordinates 'uvw'), DIR/polycube_mapped.vtp (the surface on the cube);\n"
-      "tori also DIR/polycube_tets.vtu and DIR/polycube_tets_mapped.vtu (the volume map's tets, physical and mapped).",
+      "tori also DIR/polycube_tets.vtu and DIR/polycube_tets_mapped.vtu (the volume map's tets, physical and mapped);\n"
+      "two tori meeting on a disk: one ring per torus (cell field 'ring'; ring i drawn 5i along x when mapped).",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("split");
         const core::Json j = core::read_stage_file(in, "volts-split", 2);

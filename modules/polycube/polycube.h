@@ -5,8 +5,8 @@
 // the unit cube [0,1]^3 by a bijective disk map: its curves onto the cube edges by arc length (so the
 // two patches beside a curve agree on it), its interior by Floater's mean-value weights with that
 // convex boundary, which gives a one-to-one map (Floater 2003). The interior of the solid is mapped
-// by transfinite (Coons) interpolation of the six face maps. Unions, differences and tori (issue 6)
-// are not implemented yet.
+// by transfinite (Coons) interpolation of the six face maps. Tori: embedding.h; two tori united on
+// a disk: rings.h; differences (virtual components) are not implemented yet (issue 6).
 #pragma once
 
 #include <array>
