@@ -24,9 +24,17 @@ namespace {
 // free ids where a block has none.
 std::vector<std::vector<int>> function_ids(const std::vector<tmesh::TMesh>& ts) {
   std::vector<std::vector<int>> ids(ts.size());
+  std::size_t total = 0;
+  for (const auto& t : ts) total += t.control_points.size();
   int next = 0;
-  for (const auto& t : ts)
-    for (const int id : t.function_ids) next = std::max(next, id + 1);
+  for (std::size_t b = 0; b < ts.size(); ++b)
+    for (const int id : ts[b].function_ids) {
+      // Every id must be used, so none reaches the number of control points (nor allocates it).
+      if (id < 0 || static_cast<std::size_t>(id) >= total)
+        throw core::InvalidInputError("extract: block " + std::to_string(b) + " has function id " + std::to_string(id) + ", outside [0, " +
+                                      std::to_string(total) + ") (the control points of all blocks)");
+      next = std::max(next, id + 1);
+    }
   for (std::size_t b = 0; b < ts.size(); ++b) {
     const std::size_t n = ts[b].control_points.size();
     if (ts[b].function_ids.empty()) {
@@ -35,8 +43,6 @@ std::vector<std::vector<int>> function_ids(const std::vector<tmesh::TMesh>& ts) 
       if (ts[b].function_ids.size() != n)
         throw core::InvalidInputError("extract: block " + std::to_string(b) + " has " + std::to_string(ts[b].function_ids.size()) +
                                       " function ids for " + std::to_string(n) + " control points");
-      for (const int id : ts[b].function_ids)
-        if (id < 0) throw core::InvalidInputError("extract: block " + std::to_string(b) + " has a negative function id");
       ids[b] = ts[b].function_ids;
     }
   }

@@ -91,6 +91,17 @@ TEST(GlobalBasis, UnusedIdIsRefused) {
   EXPECT_THROW(extract::global_basis(ts, test::hexes_of(ts)), core::InvalidInputError);
 }
 
+TEST(GlobalBasis, IdBeyondTheControlPointsIsRefusedBeforeAllocating) {
+  auto ts = test::two_blocks();
+  ts[0].function_ids[3] = 2000000000;
+  try {
+    extract::global_basis(ts, test::hexes_of(ts));
+    FAIL() << "no error";
+  } catch (const core::InvalidInputError& e) {
+    EXPECT_NE(std::string(e.what()).find("function id 2000000000, outside [0, 250)"), std::string::npos) << e.what();
+  }
+}
+
 TEST(GlobalBasis, HexThatDoesNotReproduceIsANumericalErrorNamingTheElement) {
   const auto ts = test::two_blocks();
   auto hexes = test::hexes_of(ts);
