@@ -64,23 +64,72 @@ double scaled_jacobian(const Eigen::Matrix3d& J) {
   return std::clamp(J.determinant() / (n0 * n1 * n2), -1.0, 1.0);  // |det| <= product by Hadamard
 }
 
+namespace {
+
+// Jacobian of a polynomial hex at (u,v,w) from basis values precomputed per direction, summed one
+// direction at a time (the per-point evaluate() allocates its bases and checks the hex: the
+// sample below is the inner loop of tmesh optimization).
+Eigen::Matrix3d polynomial_jacobian(const BezierHex& hex, const Eigen::VectorXd& Bu, const Eigen::VectorXd& dBu,
+                                    const Eigen::VectorXd& Bv, const Eigen::VectorXd& dBv, const Eigen::VectorXd& Bw,
+                                    const Eigen::VectorXd& dBw) {
+  const auto& [p, q, r] = hex.degree;
+  Eigen::Vector3d xu = Eigen::Vector3d::Zero(), xv = xu, xw = xu;
+  for (int k = 0; k <= r; ++k) {
+    Eigen::Vector3d T = Eigen::Vector3d::Zero(), Tu = T, Tv = T;
+    for (int j = 0; j <= q; ++j) {
+      Eigen::Vector3d S = Eigen::Vector3d::Zero(), Su = S;
+      const Eigen::Vector3d* P = &hex.points[static_cast<std::size_t>(hex.index(0, j, k))];
+      for (int i = 0; i <= p; ++i) S += Bu[i] * P[i], Su += dBu[i] * P[i];
+      T += Bv[j] * S, Tu += Bv[j] * Su, Tv += dBv[j] * S;
+    }
+    xu += Bw[k] * Tu, xv += Bw[k] * Tv, xw += dBw[k] * T;
+  }
+  Eigen::Matrix3d J;
+  J << xu, xv, xw;
+  return J;
+}
+
+}  // namespace
+
 JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points) {
   check(hex);
-  const std::vector<double> g = gauss_legendre_points(gauss_points);
+  std::vector<double> g = gauss_legendre_points(gauss_points);
   JacobianSample s;
-  auto add = [&](const Eigen::Vector3d& uvw) {
-    Eigen::Matrix3d J;
-    evaluate(hex, uvw, &J);
+  auto record = [&](const Eigen::Matrix3d& J) {
     const double det = J.determinant(), sj = scaled_jacobian(J);
     s.min_det = std::min(s.min_det, det);
     s.max_det = std::max(s.max_det, det);
     s.min_scaled = std::min(s.min_scaled, sj);
     s.max_scaled = std::max(s.max_scaled, sj);
   };
-  for (int c = 0; c < 8; ++c) add(Eigen::Vector3d(c & 1, (c >> 1) & 1, (c >> 2) & 1));
-  for (double w : g)
-    for (double v : g)
-      for (double u : g) add(Eigen::Vector3d(u, v, w));
+  if (hex.is_rational()) {
+    auto add = [&](const Eigen::Vector3d& uvw) {
+      Eigen::Matrix3d J;
+      evaluate(hex, uvw, &J);
+      record(J);
+    };
+    for (int c = 0; c < 8; ++c) add(Eigen::Vector3d(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+    for (double w : g)
+      for (double v : g)
+        for (double u : g) add(Eigen::Vector3d(u, v, w));
+    return s;
+  }
+  // Coordinates per direction: 0, 1, then the Gauss points; bases computed once.
+  g.insert(g.begin(), {0.0, 1.0});
+  std::array<std::vector<Eigen::VectorXd>, 3> B, dB;
+  for (int d = 0; d < 3; ++d)
+    for (const double t : g) {
+      Eigen::VectorXd db;
+      B[d].push_back(bernstein_basis(hex.degree[d], t, &db));
+      dB[d].push_back(db);
+    }
+  auto add = [&](std::size_t a, std::size_t b, std::size_t c) {
+    record(polynomial_jacobian(hex, B[0][a], dB[0][a], B[1][b], dB[1][b], B[2][c], dB[2][c]));
+  };
+  for (std::size_t c = 0; c < 8; ++c) add(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+  for (std::size_t w = 2; w < g.size(); ++w)
+    for (std::size_t v = 2; v < g.size(); ++v)
+      for (std::size_t u = 2; u < g.size(); ++u) add(u, v, w);
   return s;
 }
 
