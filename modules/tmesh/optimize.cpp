@@ -191,6 +191,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     std::sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) { return q[a].scaled < q[b].scaled; });
     int moved = 0;
     std::set<int> visited;  // a node is moved once per sweep, for the worst element it supports
+    int tried = 0;
     for (const std::size_t e : bad) {
       if (q[e].scaled >= params.target) continue;  // improved by an earlier move this sweep
       std::vector<int> nodes;
@@ -199,6 +200,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         if (!s.on_surface(id) && visited.insert(id).second) nodes.push_back(id);
       }
       for (const int id : nodes) {
+        if (++tried > params.max_nodes_per_sweep) break;
         const std::set<int>& els = s.elements_of(id);
         const auto x0 = s.position(id);
         const double h = 0.5 * s.neighbour_distance(id);

@@ -25,6 +25,9 @@ struct OptimizeParams {
   double target = 0.5;        ///< elements whose sampled scaled Jacobian is below this are improved
   int gauss_points = 2;       ///< Gauss points per direction of the sample (plus the 8 corners)
   int max_evaluations = 25;   ///< objective evaluations per node move
+  /// Node optimizations per sweep, worst elements first: bounds the time on a poor map (a count,
+  /// not seconds, so runs stay reproducible). The demo torus needs about 450 in its first sweep.
+  int max_nodes_per_sweep = 1000;
 };
 
 struct OptimizeResult {
