@@ -206,11 +206,16 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         const double h = 0.5 * s.neighbour_distance(id);
         if (!std::isfinite(h) || h <= 0) continue;
         // Elements not certified valid also count with their certified lower bound of det J
-        // relative to its mean: a sample can miss the fold.
-        auto objective = [&](const std::vector<double>& d) {
+        // relative to its mean: a sample can miss the fold. The search looks only at the node's
+        // elements within `margin` of the target (the others are far from being the worst);
+        // the move is then checked on all of them.
+        std::vector<int> near;
+        for (const int x : els)
+          if (q[static_cast<std::size_t>(x)].scaled < params.target + params.margin || !q[static_cast<std::size_t>(x)].valid) near.push_back(x);
+        auto objective_on = [&](const std::vector<double>& d, const auto& set) {
           s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
           double worst = std::numeric_limits<double>::infinity();
-          for (const int x : els) {
+          for (const int x : set) {
             const bezier::BezierHex hx = s.hex(static_cast<std::size_t>(x));
             worst = std::min(worst, bezier::sample_jacobian(hx, params.gauss_points).min_scaled);
             if (!q[static_cast<std::size_t>(x)].valid) {
@@ -220,6 +225,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
           }
           return worst;
         };
+        auto objective = [&](const std::vector<double>& d) { return objective_on(d, near); };
         nlopt::opt opt(nlopt::LN_BOBYQA, 3);
         opt.set_lower_bounds(std::vector<double>(3, -h));
         opt.set_upper_bounds(std::vector<double>(3, h));
@@ -229,8 +235,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         opt.set_maxeval(params.max_evaluations);
         opt.set_initial_step(0.25 * h);
         std::vector<double> d(3, 0.0);
-        const double before = objective(d);
-        double best = before;
+        const double before = objective_on(d, els);
+        double best = objective(d);
         try {
           opt.optimize(d, best);
         } catch (const std::exception&) {
@@ -239,7 +245,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         // Accept only a real gain that keeps every certified-valid element valid.
         s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
         std::vector<std::pair<int, Quality>> now;
-        bool ok = objective(d) > before + 1e-9;
+        bool ok = objective_on(d, els) > before + 1e-9;
         for (const int x : els) {
           if (!ok) break;
           const Quality m = measure(static_cast<std::size_t>(x));

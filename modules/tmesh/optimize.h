@@ -23,7 +23,8 @@ namespace volts::tmesh {
 struct OptimizeParams {
   int sweeps = 4;             ///< passes over the elements below `target` [0, 100]
   double target = 0.5;        ///< elements whose sampled scaled Jacobian is below this are improved
-  int gauss_points = 2;       ///< Gauss points per direction of the sample (plus the 8 corners)
+  double margin = 0.25;       ///< a node's search looks at its elements below target + margin (the move is checked on all)
+  int gauss_points = 4;       ///< Gauss points per direction of the sample (plus the 8 corners); extract's figure uses degree + 1
   int max_evaluations = 25;   ///< objective evaluations per node move
   /// Node optimizations per sweep, worst elements first: bounds the time on a poor map (a count,
   /// not seconds, so runs stay reproducible). The demo torus needs about 450 in its first sweep.
