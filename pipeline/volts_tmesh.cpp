@@ -27,7 +27,8 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
   const volmap::VolumeMap vm = volmap::from_json(vmj, in);
   if (vm.flipped_tets > 0)
     throw core::NumericalError(in + ": the volume map has " + std::to_string(vm.flipped_tets) +
-                               " flipped tets; rerun polycube with a smaller polycube.tet_max_volume_rel");
+                               " flipped tets, so the spline would fold (see polycube_tets_mapped.vtu): rerun polycube with a "
+                               "smaller polycube.tet_max_volume_rel, or set `route: tet`");
   // Points of the round ring outside the surface's chords by up to the recorded gap snap onto it.
   const double gap = core::require(pc, "boundary_gap", in).get<double>();
   Eigen::Vector3d lo = vm.parameter.at(0), hi = lo;
