@@ -108,8 +108,69 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
   return e;
 }
 
-TorusSurfaceMap map_torus_surface(const split::Decomposition& d, const PatchMapParams& params) {
+split::Decomposition merge_face_patches(const split::Decomposition& d) {
+  split::Decomposition r = d;
+  std::vector<split::Patch> patches;
+  std::vector<int> new_id(d.layout.patches.size(), -1);
+  for (auto& comp : r.components)
+    for (auto& f : comp.faces) {
+      if (f.patches.size() <= 1) continue;
+      // The union's boundary, walked along the triangles' orientation (outward, so counter-
+      // clockwise seen from outside), split at the face's four corners.
+      split::Patch merged;
+      std::map<std::pair<int, int>, int> directed;
+      for (const int p : f.patches)
+        for (const int t : d.layout.patches.at(static_cast<std::size_t>(p)).triangles) {
+          merged.triangles.push_back(t);
+          const auto& tri = d.layout.triangles.at(static_cast<std::size_t>(t));
+          for (int k = 0; k < 3; ++k) ++directed[{tri[k], tri[(k + 1) % 3]}];
+        }
+      std::map<int, int> next;
+      for (const auto& [e, n] : directed)
+        if (!directed.count({e.second, e.first}) && !next.emplace(e.first, e.second).second)
+          throw core::TopologyError("polycube: the patches of a cube face do not form a disk (vertex " + std::to_string(e.first) + ")");
+      std::vector<int> loop{f.corners[0]};
+      for (std::size_t guard = 0; guard <= next.size(); ++guard) {
+        const auto it = next.find(loop.back());
+        if (it == next.end()) throw core::TopologyError("polycube: a cube face corner is not on the boundary of its patches");
+        if (it->second == loop.front()) break;
+        loop.push_back(it->second);
+      }
+      std::vector<std::size_t> at;
+      for (std::size_t i = 0; i < loop.size(); ++i)
+        if (std::find(f.corners.begin(), f.corners.end(), loop[i]) != f.corners.end()) at.push_back(i);
+      if (at.size() != 4 || loop.size() != next.size())
+        throw core::TopologyError("polycube: the patches of a cube face are not a disk with its four corners on the boundary");
+      for (int k = 0; k < 4; ++k) {
+        merged.corners[static_cast<std::size_t>(k)] = loop[at[static_cast<std::size_t>(k)]];
+        const std::size_t end = k < 3 ? at[static_cast<std::size_t>(k) + 1] : loop.size();
+        for (std::size_t i = at[static_cast<std::size_t>(k)]; i <= end; ++i) merged.sides[static_cast<std::size_t>(k)].push_back(loop[i % loop.size()]);
+      }
+      for (const int p : f.patches) new_id[static_cast<std::size_t>(p)] = static_cast<int>(patches.size());
+      patches.push_back(std::move(merged));
+    }
+  if (patches.empty()) return r;
+  for (std::size_t p = 0; p < d.layout.patches.size(); ++p)
+    if (new_id[p] < 0) new_id[p] = static_cast<int>(patches.size()), patches.push_back(d.layout.patches[p]);
+  r.layout.patches = std::move(patches);
+  auto remap = [&](std::vector<int>& ids) {
+    for (int& p : ids) p = new_id.at(static_cast<std::size_t>(p));
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  };
+  for (auto& comp : r.components) {
+    remap(comp.patches);
+    for (auto& f : comp.faces) remap(f.patches);
+  }
+  for (auto& c : r.contacts)
+    if (c.via == "filled_patch") c.index = new_id.at(static_cast<std::size_t>(c.index));
+  r.quad_patches = static_cast<int>(r.layout.patches.size());
+  return r;
+}
+
+TorusSurfaceMap map_torus_surface(const split::Decomposition& input, const PatchMapParams& params) {
   TorusSurfaceMap m;
+  const split::Decomposition d = merge_face_patches(input);
   const auto maps = map_patches(d, params);
   m.embedding = embed_torus(d, maps);
   for (const auto& p : maps) {

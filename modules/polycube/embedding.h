@@ -43,7 +43,15 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
 /// The embedding point of local coordinates abc in component k (polar in its sector).
 std::array<double, 3> cell_point(const Embedding& e, int component, const std::array<double, 3>& abc);
 
-/// The surface map of a torus decomposition: patch maps placed on the ring embedding.
+/// The decomposition with every cube face tiled by several patches (sharp curves inside a face,
+/// e.g. the washer's chamfers) made one patch: the union of their triangles, its corners the
+/// face's, its sides the boundary chains between them. The spline then smooths over those curves
+/// (C2); keeping them needs repeated knots inside the face (issue 7). Throws core::TopologyError
+/// if the patches of a face are not a disk with the face's corners on its boundary.
+split::Decomposition merge_face_patches(const split::Decomposition& d);
+
+/// The surface map of a torus decomposition (faces of several patches merged, see above): patch
+/// maps placed on the ring embedding.
 struct TorusSurfaceMap {
   Embedding embedding;
   int flipped_surface_triangles = 0;

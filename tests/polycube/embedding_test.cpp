@@ -78,3 +78,33 @@ TEST(Embedding, BoxIsNotATorus) {
   const auto d = split::split(m, classify::classify(m, {}), {});
   EXPECT_THROW(polycube::embed_torus(d, polycube::map_patches(d, {})), core::TopologyError);
 }
+
+TEST(Embedding, FacesOfSeveralPatchesAreMergedIntoOneQuadPatch) {
+  // The washer: 12 sharp rings, 4 of them at cube edges, so its cube faces hold 3 patches each.
+  const auto m = model("loopycuts_mechanical08_rem.obj");
+  const auto d = split::split(m, classify::classify(m, {}), {});
+  const auto r = polycube::merge_face_patches(d);
+  std::size_t before = 0;
+  for (const auto& c : d.components)
+    for (int i = 0; i < 4; ++i) before = std::max(before, c.faces[static_cast<std::size_t>(i)].patches.size());
+  ASSERT_GT(before, 1u);
+  std::vector<int> covered(r.layout.triangles.size(), 0);
+  for (const auto& c : r.components)
+    for (int i = 0; i < 4; ++i) {
+      const auto& f = c.faces[static_cast<std::size_t>(i)];
+      ASSERT_EQ(f.patches.size(), 1u);
+      const auto& p = r.layout.patches[static_cast<std::size_t>(f.patches[0])];
+      // Corners are the face's; side k runs from corner k to corner k+1; the sides close the loop.
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_NE(std::find(f.corners.begin(), f.corners.end(), p.corners[static_cast<std::size_t>(k)]), f.corners.end());
+        EXPECT_EQ(p.sides[static_cast<std::size_t>(k)].front(), p.corners[static_cast<std::size_t>(k)]);
+        EXPECT_EQ(p.sides[static_cast<std::size_t>(k)].back(), p.corners[static_cast<std::size_t>((k + 1) % 4)]);
+      }
+      for (const int t : p.triangles) ++covered[static_cast<std::size_t>(t)];
+    }
+  for (std::size_t t = 0; t < covered.size(); ++t) EXPECT_EQ(covered[t], 1) << "triangle " << t;
+  // The merged decomposition maps with every vertex at one point and no flipped triangle.
+  const auto sm = polycube::map_torus_surface(d, {});
+  EXPECT_EQ(sm.flipped_surface_triangles, 0);
+  EXPECT_LT(sm.embedding.max_mismatch, 1e-12);
+}
