@@ -1,12 +1,12 @@
 // volts::tmesh — stage 4: the T-mesh, i.e. the control mesh of the volumetric spline (Liu et al.
 // 2013, §5.1–5.2).
 //
-// Implemented so far: a uniform octree of a given level on the one cube of the polycube, whose
-// control mesh is the tensor grid of a clamped cubic B-spline. Control points are chosen so that the
-// spline interpolates the polycube volume map at the Greville points; the boundary rows of control
-// points then interpolate the surface map, which keeps the spline boundary on the input surface to
-// the interpolation error. Adaptive refinement, T-junctions, sharp-feature knots, pillowing,
-// smoothing and optimization are issue 7.
+// Implemented so far: a uniform octree level per cube, pillowing (pillow.h), one clamped B-spline per
+// block whose control points make it interpolate the polycube volume map at its Greville points
+// (so the boundary rows interpolate the surface map: the spline boundary is on the input surface
+// to the interpolation error), shared control points across block faces, and optimization of the
+// worst Jacobian (optimize.h). Adaptive refinement with T-junctions, sharp-feature knots inside a
+// face and surface-sliding smoothing are not done yet (issue 7).
 #pragma once
 
 #include <array>
@@ -21,7 +21,7 @@ namespace volts::tmesh {
 
 /// Parameters of build().
 struct Params {
-  int level = 3;   ///< uniform octree level: 2^level elements along each cube edge [1, 7]
+  int level = 3;   ///< uniform octree level: 2^level elements along each cube edge, plus the pillow layers [1, 7]
   int degree = 3;  ///< spline degree in each direction [1, 5]
   int pillow_layers = 1;    ///< element layers of the pillow under the surface (§5.2); 0 = none [0, 4]
   int optimize_sweeps = 3;  ///< sweeps of per-node worst-Jacobian optimization (§5.2); 0 = none [0, 100]
