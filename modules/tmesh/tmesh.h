@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "core/stage_file.h"
-#include "polycube/polycube.h"
 
 namespace volts::tmesh {
 
