@@ -34,7 +34,8 @@ void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const
     vm = polycube::torus_volume_map(d, m, ctx.config.polycube);
   }
   if (vm.flipped_tets > 0)
-    core::log_warning(what + std::to_string(vm.flipped_tets) + " tets stay flipped after untangling (see polycube_tets_mapped.vtu); a smaller "
+    core::log_warning(what + std::to_string(vm.flipped_tets) + " tets stay flipped after untangling (it stopped: " + vm.untangle_stop +
+                      " after " + std::to_string(vm.untangle_sweeps) + " sweeps; see polycube_tets_mapped.vtu); a smaller "
                       "polycube.tet_max_volume_rel can help when the surface map is good (max_angle_distortion_deg), else "
                       "the decomposition cannot be mapped without folds: set `route: tet`");
 }

@@ -19,7 +19,12 @@
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <filesystem>
 #include <map>
 #include <new>
@@ -29,6 +34,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/limits.h"
 
 namespace volts::bezier {
 
@@ -92,6 +98,143 @@ struct ErrorCatcher {
   }
 };
 
+// ---- Pre-scan of the sizes a .vtu declares (hand-written: VTK has no such check). VTK's XML reader
+// allocates what the header and the binary block headers declare before it reads the data, so a
+// 1 KB file could ask for gigabytes (found by fuzz_vtu). Every declared size is checked here against
+// what the file can hold: at most kMaxExpansion bytes per file byte (zlib's limit is ~1032, LZ4's
+// ~255; LZMA can exceed it, but no writer volts knows produces such arrays), at least 64 MiB, and
+// never more than half the physical memory.
+constexpr double kMaxExpansion = 1100.0;
+
+// Value of attribute `name` inside one tag's text, or "" when absent.
+std::string xml_attribute(const std::string& tag, const std::string& name) {
+  for (std::size_t at = tag.find(name + "=\""); at != std::string::npos; at = tag.find(name + "=\"", at + 1)) {
+    if (at > 0 && !std::isspace(static_cast<unsigned char>(tag[at - 1]))) continue;  // "NumberOfPoints" in "xNumberOfPoints"
+    const std::size_t begin = at + name.size() + 2, end = tag.find('"', begin);
+    if (end == std::string::npos) return {};
+    return tag.substr(begin, end - begin);
+  }
+  return {};
+}
+
+// A non-negative integer attribute; -1 if absent, throws if it is not a number.
+double number_attribute(const std::string& path, const std::string& tag, const std::string& name) {
+  const std::string v = xml_attribute(tag, name);
+  if (v.empty()) return -1;
+  char* end = nullptr;
+  const double x = std::strtod(v.c_str(), &end);
+  if (end == v.c_str() || !std::isfinite(x) || x < 0)
+    throw core::InvalidInputError(path + ": malformed .vtu file: " + name + "=\"" + v.substr(0, 40) + "\" is not a size");
+  return x;
+}
+
+// First `n` bytes of a base64 text (whitespace skipped), fewer if it ends or holds other characters.
+std::string base64_prefix(const char* p, const char* end, std::size_t n) {
+  auto value = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    if (c == '+') return 62;
+    if (c == '/') return 63;
+    return -1;
+  };
+  std::string out;
+  unsigned bits = 0;
+  int nbits = 0;
+  for (; p < end && out.size() < n; ++p) {
+    if (std::isspace(static_cast<unsigned char>(*p))) continue;
+    const int v = value(*p);
+    if (v < 0) break;
+    bits = (bits << 6) | unsigned(v);
+    nbits += 6;
+    if (nbits >= 8) {
+      nbits -= 8;
+      out.push_back(static_cast<char>((bits >> nbits) & 0xFF));
+    }
+  }
+  return out;
+}
+
+void check_declared_sizes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const double file_bytes = static_cast<double>(text.size());
+  const double budget = std::min(0.5 * static_cast<double>(core::physical_memory_bytes()),
+                                 std::max(64.0 * 1024 * 1024, kMaxExpansion * file_bytes));
+  auto refuse = [&](const std::string& what, double bytes) {
+    throw core::InvalidInputError(path + ": malformed .vtu file: implausible sizes (" + what + " needs " +
+                                  std::to_string(static_cast<long long>(std::min(bytes, 9e18))) + " bytes; the file is " +
+                                  std::to_string(text.size()) + " bytes)");
+  };
+  const std::size_t appended_tag = text.find("<AppendedData");
+  const std::size_t xml_end = appended_tag == std::string::npos ? text.size() : appended_tag;
+  auto tag_at = [&](std::size_t at) { return text.substr(at, text.find('>', at) - at); };
+
+  const std::size_t file_tag = text.find("<VTKFile");
+  const std::string vtkfile = file_tag == std::string::npos ? std::string() : tag_at(file_tag);
+  const std::size_t header_bytes = xml_attribute(vtkfile, "header_type") == "UInt64" ? 8 : 4;
+  const bool big_endian = xml_attribute(vtkfile, "byte_order") == "BigEndian";
+  const bool compressed = !xml_attribute(vtkfile, "compressor").empty();
+  auto header_int = [&](const std::string& bytes, std::size_t i) {
+    double v = 0;
+    for (std::size_t b = 0; b < header_bytes; ++b) {
+      const std::size_t at = i * header_bytes + (big_endian ? b : header_bytes - 1 - b);
+      v = v * 256 + static_cast<unsigned char>(bytes[at]);
+    }
+    return v;
+  };
+
+  double tuples = 0;  // most tuples an array of the current piece may hold
+  for (std::size_t at = text.find("<Piece"); at < xml_end; at = text.find("<Piece", at + 1)) {
+    const std::string piece = tag_at(at);
+    const double np = number_attribute(path, piece, "NumberOfPoints"), nc = number_attribute(path, piece, "NumberOfCells");
+    if (np * 3 * 8 > budget) refuse("NumberOfPoints", np * 3 * 8);
+    if (nc * 8 * 3 > budget) refuse("NumberOfCells", nc * 8 * 3);
+    tuples = std::max({tuples, np, nc});
+  }
+  // Appended data starts after the '_' that follows the AppendedData tag.
+  const std::size_t underscore = appended_tag == std::string::npos ? std::string::npos : text.find('_', appended_tag);
+  const std::string appended = appended_tag == std::string::npos ? std::string() : tag_at(appended_tag);
+  const bool appended_base64 = xml_attribute(appended, "encoding") == "base64";
+  for (std::size_t at = text.find("<DataArray"); at < xml_end; at = text.find("<DataArray", at + 1)) {
+    const std::string tag = tag_at(at);
+    const double components = std::max(1.0, number_attribute(path, tag, "NumberOfComponents"));
+    const double declared = number_attribute(path, tag, "NumberOfTuples");
+    const double n = declared >= 0 ? declared : tuples;
+    if (n * components * 8 > budget) refuse("a DataArray (NumberOfComponents x tuples)", n * components * 8);
+    // Binary data: the block header in front of the array (sizes of the uncompressed data).
+    const std::string format = xml_attribute(tag, "format");
+    const char* data = nullptr;
+    const char* data_end = text.data() + text.size();
+    bool base64 = false;
+    if (format == "appended") {
+      const double offset = number_attribute(path, tag, "offset");
+      if (underscore == std::string::npos || offset < 0) continue;  // VTK reports these itself
+      if (offset >= file_bytes - double(underscore) - 1) refuse("a DataArray offset past the end of the file", offset);
+      data = text.data() + underscore + 1 + static_cast<std::size_t>(offset);
+      base64 = appended_base64;
+    } else if (format == "binary" && text.find('>', at) != std::string::npos) {
+      data = text.data() + text.find('>', at) + 1;
+      base64 = true;
+    } else {
+      continue;
+    }
+    const std::size_t words = compressed ? 3 : 1;
+    std::string head = base64 ? base64_prefix(data, data_end, words * header_bytes)
+                              : std::string(data, std::min<std::size_t>(words * header_bytes, static_cast<std::size_t>(data_end - data)));
+    if (head.size() < words * header_bytes) continue;  // VTK reports a short header itself
+    const double available = static_cast<double>(data_end - data);
+    if (!compressed) {
+      if (header_int(head, 0) > available) refuse("a binary DataArray", header_int(head, 0));
+      continue;
+    }
+    const double blocks = header_int(head, 0), block_size = header_int(head, 1), last_size = header_int(head, 2);
+    if (blocks * header_bytes > available) refuse("a compressed DataArray's block table", blocks * header_bytes);
+    if (std::max(block_size, last_size) > budget || blocks * block_size > budget)
+      refuse("a compressed DataArray", std::max(blocks * block_size, std::max(block_size, last_size)));
+  }
+}
+
 vtkSmartPointer<vtkUnstructuredGrid> read_grid(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
@@ -99,6 +242,7 @@ vtkSmartPointer<vtkUnstructuredGrid> read_grid(const std::string& path) {
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   if (!reader->CanReadFile(path.c_str()))
     throw core::InvalidInputError(path + ": not a VTK XML unstructured grid (.vtu) file");
+  check_declared_sizes(path);
   ErrorCatcher errors;
   reader->AddObserver(vtkCommand::ErrorEvent, errors.callback);
   reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors.callback);

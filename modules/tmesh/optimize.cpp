@@ -189,6 +189,10 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     for (std::size_t e = 0; e < s.size(); ++e)
       if (q[e].scaled < params.target) bad.push_back(e);
     std::sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) { return q[a].scaled < q[b].scaled; });
+    if (bad.empty()) {
+      r.stop_reason = "no_element_below_target";
+      break;
+    }
     int moved = 0;
     std::set<int> visited;  // a node is moved once per sweep, for the worst element it supports
     int tried = 0;
@@ -267,7 +271,21 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     summary(&worst, &invalid);
     core::log("optimization sweep " + std::to_string(sweep + 1) + ": " + std::to_string(moved) + " nodes moved, worst scaled Jacobian " +
               std::to_string(worst) + ", " + std::to_string(invalid) + " elements not certified valid");
-    if (moved == 0) break;
+    if (tried > params.max_nodes_per_sweep) {
+      ++r.sweeps_cut_at_node_bound;
+      core::log_warning("optimization sweep " + std::to_string(sweep + 1) + " stopped at its bound of " +
+                        std::to_string(params.max_nodes_per_sweep) + " node moves; elements below the target were left unvisited");
+    }
+    if (moved == 0) {
+      r.stop_reason = "no_move";
+      break;
+    }
+  }
+  if (r.stop_reason.empty()) {
+    r.stop_reason = params.sweeps == 0 ? "disabled" : "sweep_bound";
+    if (params.sweeps > 0)
+      core::log_warning("optimization stopped at its bound of " + std::to_string(params.sweeps) +
+                        " sweeps (tmesh.optimize_sweeps) while moves still raised the worst scaled Jacobian");
   }
   summary(&r.min_after, &r.invalid_after);
   return r;

@@ -14,6 +14,7 @@
 // (bezier::certify), so optimization never makes the certified validity worse.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "tmesh/tmesh.h"
@@ -36,6 +37,10 @@ struct OptimizeResult {
   int invalid_before = 0, invalid_after = 0;  ///< elements not certified valid
   int nodes_moved = 0;
   int sweeps = 0;                           ///< sweeps run (stops early when a sweep moves nothing)
+  int sweeps_cut_at_node_bound = 0;         ///< sweeps that stopped at `max_nodes_per_sweep`
+  /// Why it stopped: "no_element_below_target", "no_move" (a sweep moved nothing), "disabled" (0 sweeps) or
+  /// "sweep_bound" (`sweeps` ran out while moves still helped; logged as a warning).
+  std::string stop_reason;
 };
 
 /// Moves interior control points of `blocks` (in place, shared ids together) to raise the worst

@@ -134,6 +134,7 @@ core::Json report_figures(const VolumeMap& m) {
                     {"untangle_sweeps", m.untangle_sweeps},
                     {"untangle_moves", m.untangle_moves},
                     {"untangle_joint", m.untangle_joint},
+                    {"untangle_stop", m.untangle_stop},
                     {"min_volume_ratio", m.min_volume_ratio},
                     {"parameter_volume", m.parameter_volume}};
 }
@@ -194,6 +195,10 @@ VolumeMap from_json(const core::Json& j, const std::string& file) {
   const core::Json& joint = core::require(j, "untangle_joint", file);
   if (!joint.is_boolean()) throw core::InvalidInputError(file + ": untangle_joint must be true or false");
   m.untangle_joint = joint.get<bool>();
+  if (j.contains("untangle_stop")) {
+    if (!j["untangle_stop"].is_string()) throw core::InvalidInputError(file + ": untangle_stop must be a string");
+    m.untangle_stop = j["untangle_stop"].get<std::string>();
+  }
   m.min_volume_ratio = get_double("min_volume_ratio");
   m.parameter_volume = get_double("parameter_volume");
   return m;

@@ -398,6 +398,8 @@ void untangle(VolumeMap& vm, const Params& params) {
     int ring = 0;  // grown when a sweep makes no progress: a tangle may need its neighbours to move
     double worst = HUGE_VAL;
     for (int t : bad) worst = std::min(worst, volume6(vm.parameter, vm.tets[t]));
+    if (bad.empty()) return;
+    vm.untangle_stop = "done";
     while (vm.untangle_sweeps < params.untangle_max_sweeps && !bad.empty()) {
       std::set<int> active;
       for (int t : bad)
@@ -420,8 +422,12 @@ void untangle(VolumeMap& vm, const Params& params) {
       stalled = progress ? 0 : stalled + 1;
       bad = now;
       worst = w;
-      if (stalled > 12) break;  // the largest neighbourhood has not helped for several sweeps
+      if (stalled > 12) {  // the largest neighbourhood has not helped for several sweeps
+        vm.untangle_stop = "stalled";
+        return;
+      }
     }
+    if (!bad.empty()) vm.untangle_stop = "sweep_bound";
   };
   sweeps();
   const auto flipped = [&] {

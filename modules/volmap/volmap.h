@@ -52,6 +52,10 @@ struct VolumeMap {
   int untangle_sweeps = 0;                 ///< sweeps the untangling took
   int untangle_moves = 0;                  ///< vertex moves it made
   bool untangle_joint = false;             ///< the joint fallback (Garanzha et al. 2021) ran
+  /// Why untangling stopped: "not_needed", "done" (no tet below the target), "sweep_bound"
+  /// (untangle_max_sweeps reached) or "stalled" (12 sweeps without progress at the largest ring).
+  /// Optional in stage files written before it existed.
+  std::string untangle_stop = "not_needed";
   /// min over tets of (parameter volume / physical volume) / (total parameter / total physical
   /// volume): the smallest relative Jacobian of the map; 1 for an affine map, <= 0 iff a tet is flipped.
   double min_volume_ratio = 0;

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <set>
@@ -131,7 +133,7 @@ std::string garbage(std::size_t n) {
   return s;
 }
 
-std::string ascii_vtu(const std::string& points, int npoints, const std::string& connectivity, const std::string& offsets,
+std::string ascii_vtu(const std::string& points, long long npoints, const std::string& connectivity, const std::string& offsets,
                       const std::string& types, int ncells, const std::string& cell_data = "") {
   return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"2.2\" byte_order=\"LittleEndian\">\n"
          "<UnstructuredGrid><Piece NumberOfPoints=\"" + std::to_string(npoints) + "\" NumberOfCells=\"" + std::to_string(ncells) +
@@ -300,6 +302,24 @@ std::vector<BadInput> catalogue() {
           },
           "degree"),
       vtu("VtuNaNPoint", nan_point_vtu, "point 3 is not finite"),
+      // Sizes that VTK would allocate before reading any data: refused by the pre-scan, which
+      // names what asked for the memory and the file's size.
+      vtu("VtuHugePointCount", [] { return ascii_vtu("0 0 0 1 0 0 0 1 0 0 0 1", 4000000000000, "0 1 2 3", "4", "10", 1); },
+          "implausible sizes (NumberOfPoints needs 96000000000000 bytes"),
+      vtu("VtuHugeComponentCount",
+          [] {
+            return ascii_vtu("0 0 0 1 0 0 0 1 0 0 0 1", 4, "0 1 2 3", "4", "10", 1,
+                             "<CellData><DataArray type=\"Float64\" Name=\"x\" NumberOfComponents=\"900000000000\" "
+                             "format=\"ascii\">1</DataArray></CellData>\n");
+          },
+          "implausible sizes (a DataArray"),
+      vtu("VtuHugeCompressedBlockTable",
+          [] {
+            // A zlib-compressed bezier.vtu whose first block header says 587 million blocks (fuzz_vtu).
+            std::ifstream in(std::string(VOLTS_SOURCE_DIR) + "/tests/hardening/fuzz_regressions/vtu/block_count_4_gb.vtu", std::ios::binary);
+            return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+          },
+          "implausible sizes (a compressed DataArray's block table needs 4697620488 bytes; the file is 3237 bytes)"),
   };
   return c;
 }

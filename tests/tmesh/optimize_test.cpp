@@ -54,6 +54,9 @@ TEST(Optimize, NeverLowersTheWorstJacobianAndKeepsSurfaceAndSharedPoints) {
     EXPECT_LE(r.invalid_after, r.invalid_before);
     EXPECT_GT(r.nodes_moved, 0);
     EXPECT_GT(r.min_after, r.min_before + 0.01);  // a real gain on this map
+    // One sweep moved nodes, so the run stopped on its sweep bound and must say so.
+    EXPECT_EQ(r.sweeps, 1);
+    EXPECT_EQ(r.stop_reason, "sweep_bound");
     std::map<int, Vec3> at;
     int moved = 0;
     for (std::size_t b = 0; b < ts.size(); ++b) {
@@ -76,6 +79,24 @@ TEST(Optimize, NeverLowersTheWorstJacobianAndKeepsSurfaceAndSharedPoints) {
     }
     EXPECT_GT(moved, 0);
   }
+}
+
+TEST(Optimize, SaysWhyItStopped) {
+  std::vector<tmesh::TMesh> ts = blocks(1);
+  tmesh::OptimizeParams op;
+  op.gauss_points = 2;
+  op.sweeps = 0;
+  EXPECT_EQ(tmesh::optimize(ts, op).stop_reason, "disabled");
+  op.sweeps = 1;
+  op.target = -1;  // no sampled scaled Jacobian is below -1
+  const tmesh::OptimizeResult none = tmesh::optimize(ts, op);
+  EXPECT_EQ(none.stop_reason, "no_element_below_target");
+  EXPECT_EQ(none.sweeps, 0);
+  op.target = 0.9;
+  op.max_nodes_per_sweep = 3;  // far fewer than the candidates
+  const tmesh::OptimizeResult cut = tmesh::optimize(ts, op);
+  EXPECT_EQ(cut.sweeps_cut_at_node_bound, 1);
+  EXPECT_LE(cut.nodes_moved, 3);
 }
 
 TEST(Optimize, ParametersOutOfRangeAreRefused) {

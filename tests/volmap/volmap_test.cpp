@@ -232,6 +232,9 @@ TEST(HarmonicVolumeMap, UntanglingUnfoldsTheRingsInnerEdges) {
   const VolumeMap raw = volmap::harmonic_volume_map(c.mesh, c.sp, c.params);
   EXPECT_EQ(raw.flipped_tets, m.flipped_tets_before_untangling);
   EXPECT_LE(raw.min_volume_ratio, 0);
+  // Both say why untangling stopped: the bound of 0 sweeps left the folds.
+  EXPECT_EQ(raw.untangle_stop, "sweep_bound");
+  EXPECT_TRUE(m.untangle_stop == "done" || m.untangle_stop == "stalled") << m.untangle_stop;
   // Untangling moves interior points only.
   ASSERT_EQ(raw.parameter.size(), m.parameter.size());
   for (int i = 0; i < m.surface_vertices; ++i) EXPECT_TRUE(raw.parameter[i] == m.parameter[i]);
@@ -340,6 +343,7 @@ TEST(VolumeMapFiles, JsonRoundTripAndVtu) {
   EXPECT_EQ(back.flipped_tets_before_untangling, m.flipped_tets_before_untangling);
   EXPECT_EQ(back.min_volume_ratio, m.min_volume_ratio);
   EXPECT_EQ(back.untangle_joint, m.untangle_joint);
+  EXPECT_EQ(back.untangle_stop, m.untangle_stop);
   core::Json bad = volmap::to_json(m);
   bad["tets"][5] = 1 << 30;
   try {
