@@ -101,6 +101,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
   for (const auto& t : ts) before = std::min(before, tmesh::min_element_scaled_jacobian(t));
   double after = before;
   tmesh::OptimizeResult opt;
+  opt.stop_reason = "disabled";
   if (ctx.config.tmesh.optimize_sweeps > 0) {
     core::LogSection s("optimization of the worst Jacobian");
     tmesh::OptimizeParams op;

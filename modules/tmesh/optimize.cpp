@@ -187,8 +187,11 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   for (int sweep = 0; sweep < params.sweeps; ++sweep) {
     std::vector<std::size_t> bad;
     for (std::size_t e = 0; e < s.size(); ++e)
-      if (q[e].scaled < params.target) bad.push_back(e);
-    std::sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) { return q[a].scaled < q[b].scaled; });
+      if (q[e].scaled < params.target || !q[e].valid) bad.push_back(e);
+    // Elements not certified valid first (a sample can miss their fold), then worst first.
+    std::sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) {
+      return q[a].valid != q[b].valid ? !q[a].valid : q[a].scaled < q[b].scaled;
+    });
     if (bad.empty()) {
       r.stop_reason = "no_element_below_target";
       break;
@@ -197,7 +200,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     std::set<int> visited;  // a node is moved once per sweep, for the worst element it supports
     int tried = 0;
     for (const std::size_t e : bad) {
-      if (q[e].scaled >= params.target) continue;  // improved by an earlier move this sweep
+      if (q[e].scaled >= params.target && q[e].valid) continue;  // improved by an earlier move this sweep
       std::vector<int> nodes;
       for (const int local : s.points_of(e)) {
         const int id = s.id_of(s.block_of(e), local);
