@@ -192,6 +192,15 @@ void check_declared_sizes(const std::string& path) {
     if (nc * 8 * 3 > budget) refuse("NumberOfCells", nc * 8 * 3);
     tuples = std::max({tuples, np, nc});
   }
+  // VTK leaks the array it made when the points have other than 3 components (fuzz_vtu).
+  for (std::size_t at = text.find("<Points"); at < xml_end; at = text.find("<Points", at + 1)) {
+    const std::size_t array = text.find("<DataArray", at);
+    if (array >= xml_end) break;
+    const std::string tag = tag_at(array);
+    if (number_attribute(path, tag, "NumberOfComponents") != 3)
+      throw core::InvalidInputError(path + ": malformed .vtu file: the Points array has NumberOfComponents=\"" +
+                                    xml_attribute(tag, "NumberOfComponents").substr(0, 20) + "\", VTK needs 3");
+  }
   // Appended data starts after the '_' that follows the AppendedData tag.
   const std::size_t underscore = appended_tag == std::string::npos ? std::string::npos : text.find('_', appended_tag);
   const std::string appended = appended_tag == std::string::npos ? std::string() : tag_at(appended_tag);

@@ -210,6 +210,37 @@ class TextProblems {
 /// CGAL reads the colour as the tokens left after the coordinates (and normals, texture) and reads
 /// three of them unless one is left, without checking they exist (found by fuzz_off: a short
 /// CNOFF vertex line reads freed memory), so a colour of other than 0, 1, 3 or 4 values is refused.
+/// The colour tokens t[first..] of an OFF vertex or face line (`what`). CGAL converts a colour to
+/// unsigned char without a range check (undefined behaviour for 33 or 1.5: found by fuzz_off) and
+/// looks a single value up in a 149-entry colour map without a lower bound, so: 0, 1, 3 or 4
+/// numbers; one value an index in [0, 2^31); three or four values integers in [0, 255] or
+/// fractions in [0, 1] (CGAL's two conventions, told apart as CGAL does).
+void check_off_color(TextProblems& problems, const std::string& what, const std::vector<std::string_view>& t, std::size_t first,
+                     const Line& line) {
+  const std::size_t n = t.size() > first ? t.size() - first : 0;
+  if (n != 0 && n != 1 && n != 3 && n != 4)
+    return problems.malformed(what + ": " + std::to_string(n) + " values where a colour needs 0, 1, 3 or 4", line);
+  std::vector<double> v;
+  for (std::size_t k = first; k < t.size(); ++k) {
+    const std::string s(t[k]);
+    char* end = nullptr;
+    const double x = std::strtod(s.c_str(), &end);
+    if (end != s.c_str() + s.size() || !std::isfinite(x))
+      return problems.malformed(what + ": colour value '" + s + "' is not a finite number", line);
+    v.push_back(x);
+  }
+  if (n == 1 && !(v[0] >= 0 && v[0] < 2147483648.0))
+    return problems.malformed(what + ": colour-map index " + std::string(t[first]) + " out of range", line);
+  if (n >= 3) {
+    const bool integers = std::floor(v[0]) == v[0] && std::floor(v[1]) == v[1] && std::floor(v[2]) == v[2];
+    for (int c = 0; c < 3; ++c)
+      if (!(v[c] >= 0 && v[c] <= (integers ? 255 : 1)))
+        return problems.malformed(what + ": colour value " + std::string(t[first + c]) + " out of range (" +
+                                      (integers ? "0 to 255" : "0 to 1") + ")",
+                                  line);
+  }
+}
+
 void check_off_lines(const std::string& path, const std::string& text, std::size_t header_end, std::size_t nv,
                      std::size_t nf, std::size_t color_tokens_at) {
   TextProblems problems(text);
@@ -220,13 +251,12 @@ void check_off_lines(const std::string& path, const std::string& text, std::size
     if (t.empty()) return;
     if (items < nv) {
       problems.vertex(items, t, line);
-      if (color_tokens_at > 0) {
-        const long long colors = static_cast<long long>(t.size()) - static_cast<long long>(color_tokens_at);
-        if (colors != 0 && colors != 1 && colors != 3 && colors != 4)
-          problems.malformed("vertex " + std::to_string(items) + ": " + std::to_string(std::max(colors, 0LL)) +
-                                 " values after the coordinates and normals where a colour needs 0, 1, 3 or 4",
-                             line);
-      }
+      if (color_tokens_at > 0 && t.size() >= color_tokens_at)
+        check_off_color(problems, "vertex " + std::to_string(items) + " (after the coordinates and normals)", t, color_tokens_at, line);
+      else if (color_tokens_at > 0)
+        problems.short_line("vertex " + std::to_string(items) + ": " + std::to_string(t.size()) + " values where the header's coordinates and normals need " +
+                                std::to_string(color_tokens_at),
+                            line);
     } else if (items < nv + nf) {
       const std::size_t face = items - nv;
       long long n = 0;
@@ -247,6 +277,8 @@ void check_off_lines(const std::string& path, const std::string& text, std::size
             break;
           }
         }
+        // CGAL reads the rest of a face line as its colour when the header announces colours.
+        if (color_tokens_at > 0) check_off_color(problems, "face " + std::to_string(face), t, static_cast<std::size_t>(n) + 1, line);
       }
     }
     ++items;
