@@ -319,8 +319,21 @@ void check_off_header_counts(const std::string& path, std::string_view text) {
     } else if (c == '#') {
       pos = std::min(text.find('\n', pos), text.size());
     } else {
-      const std::size_t end = std::min(text.find_first_of(" \t\r\n\f\v#", pos), text.size());
-      tokens.push_back(text.substr(pos, end - pos));
+      std::size_t end = std::min(text.find_first_of(" \t\r\n\f\v#", pos), text.size());
+      if (tokens.empty()) {
+        // CGAL reads the keyword as letters and digits and swallows the one character after it, so
+        // "OFF&1999999998" is the keyword OFF and a count (fuzz_off: CGAL then overflowed an int).
+        std::size_t k = pos;
+        while (k < end && std::isalnum(static_cast<unsigned char>(text[k]))) ++k;
+        if (k > pos && k < end) {
+          tokens.push_back(text.substr(pos, k - pos));
+          end = k + 1;
+        } else {
+          tokens.push_back(text.substr(pos, end - pos));
+        }
+      } else {
+        tokens.push_back(text.substr(pos, end - pos));
+      }
       pos = end;
     }
   }
