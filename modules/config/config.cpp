@@ -137,6 +137,8 @@ class Section {
   void finish() const {
     if (!node_.IsDefined() || !node_.IsMap()) return;
     for (const auto& kv : node_) {
+      if (!kv.first.IsScalar())
+        throw core::ConfigError(source_ + ": a key that is not a plain name (line " + std::to_string(kv.first.Mark().line + 1) + ")");
       const std::string k = kv.first.as<std::string>();
       if (!known_.count(k)) {
         std::string list;
@@ -304,7 +306,12 @@ Config parse_config(const std::string& text, const std::string& source) {
   } catch (const YAML::Exception& e) {
     throw core::ConfigError(source + ": not valid YAML (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
   }
-  return bind_config(root, source);
+  try {
+    return bind_config(root, source);
+  } catch (const YAML::Exception& e) {
+    // What the binding did not foresee, e.g. a key that is itself a map ("? {a: 1}: 2"; fuzz_config).
+    throw core::ConfigError(source + ": unexpected YAML structure (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
+  }
 }
 
 Config load_config(const std::string& path) {

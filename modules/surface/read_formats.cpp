@@ -215,9 +215,13 @@ class TextProblems {
 /// looks a single value up in a 149-entry colour map without a lower bound, so: 0, 1, 3 or 4
 /// numbers; one value an index in [0, 2^31); three or four values integers in [0, 255] or
 /// fractions in [0, 1] (CGAL's two conventions, told apart as CGAL does).
+/// `seen`: an earlier line of the same kind had a colour. CGAL's "has colours" flag is sticky, so
+/// a later line without one makes it read the previous line's values (fuzz_off): refused.
 void check_off_color(TextProblems& problems, const std::string& what, const std::vector<std::string_view>& t, std::size_t first,
-                     const Line& line) {
+                     const Line& line, bool& seen) {
   const std::size_t n = t.size() > first ? t.size() - first : 0;
+  if (n == 0 && seen) return problems.malformed(what + ": no colour, where earlier lines have one", line);
+  seen = seen || n > 0;
   if (n != 0 && n != 1 && n != 3 && n != 4)
     return problems.malformed(what + ": " + std::to_string(n) + " values where a colour needs 0, 1, 3 or 4", line);
   std::vector<double> v;
@@ -245,6 +249,7 @@ void check_off_lines(const std::string& path, const std::string& text, std::size
                      std::size_t nf, std::size_t color_tokens_at) {
   TextProblems problems(text);
   std::size_t items = 0;
+  bool vertex_color_seen = false, face_color_seen = false;
   // Like CGAL, read on from the end of the counts: the rest of their line is data if not blank.
   for_each_line(text, header_end, [&](const Line& line) {
     const auto t = tokens_of(line.text, true);
@@ -252,7 +257,8 @@ void check_off_lines(const std::string& path, const std::string& text, std::size
     if (items < nv) {
       problems.vertex(items, t, line);
       if (color_tokens_at > 0 && t.size() >= color_tokens_at)
-        check_off_color(problems, "vertex " + std::to_string(items) + " (after the coordinates and normals)", t, color_tokens_at, line);
+        check_off_color(problems, "vertex " + std::to_string(items) + " (after the coordinates and normals)", t, color_tokens_at, line,
+                        vertex_color_seen);
       else if (color_tokens_at > 0)
         problems.short_line("vertex " + std::to_string(items) + ": " + std::to_string(t.size()) + " values where the header's coordinates and normals need " +
                                 std::to_string(color_tokens_at),
@@ -278,7 +284,7 @@ void check_off_lines(const std::string& path, const std::string& text, std::size
           }
         }
         // CGAL reads the rest of a face line as its colour when the header announces colours.
-        if (color_tokens_at > 0) check_off_color(problems, "face " + std::to_string(face), t, static_cast<std::size_t>(n) + 1, line);
+        if (color_tokens_at > 0) check_off_color(problems, "face " + std::to_string(face), t, static_cast<std::size_t>(n) + 1, line, face_color_seen);
       }
     }
     ++items;
