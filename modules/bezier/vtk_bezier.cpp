@@ -23,6 +23,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <filesystem>
@@ -252,8 +253,14 @@ void check_declared_sizes(const std::string& path) {
       throw core::InvalidInputError(path + ": malformed .vtu file: the Points array has NumberOfComponents=\"" +
                                     xml_attribute(tag, "NumberOfComponents").substr(0, 20) + "\", VTK needs 3");
   }
-  // Appended data starts after the '_' that follows the AppendedData tag.
-  const std::size_t underscore = appended_tag == std::string::npos ? std::string::npos : text.find('_', appended_tag);
+  // As VTK finds it: the first non-blank character after the tag's '>' is taken for the '_'
+  // marker, whatever it is (a ';' there shifted every offset: fuzz_vtu).
+  std::size_t underscore = appended_tag == std::string::npos ? std::string::npos : text.find('>', appended_tag);
+  if (underscore != std::string::npos) {
+    ++underscore;
+    while (underscore < text.size() && std::strchr(" \t\n\r", text[underscore]) && text[underscore]) ++underscore;  // VTK's blanks
+    if (underscore >= text.size()) underscore = std::string::npos;
+  }
   const std::string appended = appended_tag == std::string::npos ? std::string() : tag_at(appended_tag);
   const bool appended_base64 = xml_attribute(appended, "encoding") == "base64";
   for (std::size_t at = text.find("<DataArray"); at < xml_end; at = text.find("<DataArray", at + 1)) {
