@@ -76,8 +76,9 @@ std::vector<std::vector<int>> insert_isoline(Mesh& mesh, std::vector<double>& f,
   for (const auto& [a, b] : crossed) {
     const HI h = mesh.halfedge(VI(a), VI(b));
     const double oa = off(f[a]), t = oa / (oa - off(f[b]));
-    const auto& pa = mesh.point(VI(a));
-    const auto& pb = mesh.point(VI(b));
+    // Copies: split_edge adds a vertex, which can reallocate the point property (ASan: use after free).
+    const surface::Point pa = mesh.point(VI(a));
+    const surface::Point pb = mesh.point(VI(b));
     const HI hn = CGAL::Euler::split_edge(h, mesh);  // new vertex is target(hn)
     const VI v = mesh.target(hn);
     mesh.point(v) = surface::Point(pa.x() + t * (pb.x() - pa.x()), pa.y() + t * (pb.y() - pa.y()), pa.z() + t * (pb.z() - pa.z()));
