@@ -275,7 +275,9 @@ void check_declared_sizes(const std::string& path) {
     const char* data = nullptr;
     const char* data_end = text.data() + text.size();
     bool base64 = false;
-    if (format == "appended") {
+    // VTK reads an array with an offset from the appended data unless it says ascii or binary,
+    // even when the format attribute is missing or misspelt (fuzz_vtu: "fomart").
+    if (format == "appended" || (format != "ascii" && format != "binary" && !xml_attribute(tag, "offset").empty())) {
       const double offset = number_attribute(path, tag, "offset");
       if (underscore == std::string::npos || offset < 0) continue;  // VTK reports these itself
       if (offset >= file_bytes - double(underscore) - 1) refuse("a DataArray offset past the end of the file", offset);
