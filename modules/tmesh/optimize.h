@@ -22,7 +22,7 @@
 namespace volts::tmesh {
 
 struct OptimizeParams {
-  int sweeps = 40;            ///< bound on passes over the elements below `target` [0, 100]
+  int sweeps = 4;             ///< bound on passes over the elements below `target` [0, 100]
   double target = 0.5;        ///< elements whose sampled scaled Jacobian is below this are improved
   double margin = 0.25;       ///< a node's search looks at its elements below target + margin (the move is checked on all)
   int gauss_points = 4;       ///< Gauss points per direction of the sample (plus the 8 corners); extract's figure uses degree + 1
