@@ -29,6 +29,7 @@
 #include <filesystem>
 #include <map>
 #include <new>
+#include <set>
 #include <stdexcept>
 
 #include "bezier/bernstein.h"
@@ -263,12 +264,23 @@ void check_declared_sizes(const std::string& path) {
   }
   const std::string appended = appended_tag == std::string::npos ? std::string() : tag_at(appended_tag);
   const bool appended_base64 = xml_attribute(appended, "encoding") == "base64";
+  std::set<std::pair<std::size_t, std::string>> names;
   for (std::size_t at = text.find("<DataArray"); at < xml_end; at = text.find("<DataArray", at + 1)) {
     const std::string tag = tag_at(at);
     const double components = std::max(1.0, number_attribute(path, tag, "NumberOfComponents"));
     const double declared = number_attribute(path, tag, "NumberOfTuples");
     const double n = declared >= 0 ? declared : tuples;
     if (n * components * 8 > budget) refuse("a DataArray (NumberOfComponents x tuples)", n * components * 8);
+    // Two arrays of one name in a section make VTK dereference null (fuzz_vtu: a second
+    // max_scaled_jacobian in CellData).
+    std::size_t section = 0;
+    for (const char* open : {"<Piece", "<Points", "<PointData", "<CellData", "<Cells"}) {
+      const std::size_t o = text.rfind(open, at);
+      if (o != std::string::npos) section = std::max(section, o);
+    }
+    const std::string array_name = xml_attribute(tag, "Name");
+    if (!array_name.empty() && !names.insert({section, array_name}).second)
+      throw core::InvalidInputError(path + ": malformed .vtu file: two arrays named '" + array_name.substr(0, 60) + "' in one section");
     const std::string format = xml_attribute(tag, "format");
     if (format == "ascii") check_ascii_array(path, text, at, tag, components);
     // Binary data: the block header in front of the array (sizes of the uncompressed data).
