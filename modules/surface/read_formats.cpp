@@ -202,14 +202,6 @@ class TextProblems {
 
 // ---- OFF ------------------------------------------------------------------------------------
 
-/// Hand-written pre-check of the data lines (the non-blank, non-comment lines after the header:
-/// nv vertices, then nf faces), run before CGAL reads them: CGAL allocates every array a count
-/// announces (header or face line) before reading it, so a truncated or corrupt file could make
-/// it allocate gigabytes, and it reports no problem beyond "false".
-/// `color_tokens_at`: for COFF-like headers, how many tokens precede a vertex's colour (else 0).
-/// CGAL reads the colour as the tokens left after the coordinates (and normals, texture) and reads
-/// three of them unless one is left, without checking they exist (found by fuzz_off: a short
-/// CNOFF vertex line reads freed memory), so a colour of other than 0, 1, 3 or 4 values is refused.
 /// The colour tokens t[first..] of an OFF vertex or face line (`what`). CGAL converts a colour to
 /// unsigned char without a range check (undefined behaviour for 33 or 1.5: found by fuzz_off) and
 /// looks a single value up in a 149-entry colour map without a lower bound, so: 0, 1, 3 or 4
@@ -245,6 +237,14 @@ void check_off_color(TextProblems& problems, const std::string& what, const std:
   }
 }
 
+/// Hand-written pre-check of the data lines (the non-blank, non-comment lines after the header:
+/// nv vertices, then nf faces), run before CGAL reads them: CGAL allocates every array a count
+/// announces (header or face line) before reading it, so a truncated or corrupt file could make
+/// it allocate gigabytes, and it reports no problem beyond "false".
+/// `color_tokens_at`: for COFF-like headers, how many tokens precede a vertex's colour (else 0).
+/// CGAL reads the colour as the tokens left after the coordinates (and normals, texture) and reads
+/// three of them unless one is left, without checking they exist (found by fuzz_off: a short
+/// CNOFF vertex line reads freed memory), so a colour of other than 0, 1, 3 or 4 values is refused.
 void check_off_lines(const std::string& path, const std::string& text, std::size_t header_end, std::size_t nv,
                      std::size_t nf, std::size_t color_tokens_at) {
   TextProblems problems(text);
