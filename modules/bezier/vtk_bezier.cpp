@@ -31,6 +31,7 @@
 #include <new>
 #include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "bezier/bernstein.h"
 
@@ -157,6 +158,18 @@ std::string base64_prefix(const char* p, const char* end, std::size_t n) {
   return out;
 }
 
+// The innermost section (Piece, Points, PointData, CellData, Cells) whose opening tag precedes
+// `at`: its position and opening tag. Both the length check of ASCII arrays and the duplicate-name
+// check need it.
+std::pair<std::size_t, std::string> section_of(const std::string& text, std::size_t at) {
+  std::pair<std::size_t, std::string> section{0, std::string()};
+  for (const char* open : {"<Piece", "<Points", "<PointData", "<CellData", "<Cells"}) {
+    const std::size_t o = text.rfind(open, at);
+    if (o != std::string::npos && (section.second.empty() || o > section.first)) section = {o, open};
+  }
+  return section;
+}
+
 // An ASCII DataArray: every value a number (an integer for integer types) and at least as many
 // as its section needs. VTK 9.1 leaks the array it was filling when an ASCII read fails
 // (fuzz_vtu: a cell type "=9"), so such files are refused before VTK reads them.
@@ -192,12 +205,7 @@ void check_ascii_array(const std::string& path, const std::string& text, std::si
   if (piece == std::string::npos) return;
   const std::string piece_tag = text.substr(piece, text.find('>', piece) - piece);
   const double np = number_attribute(path, piece_tag, "NumberOfPoints"), nc = number_attribute(path, piece_tag, "NumberOfCells");
-  std::size_t section = piece;
-  std::string name;
-  for (const char* open : {"<Points", "<PointData", "<CellData", "<Cells"}) {
-    const std::size_t o = text.rfind(open, at);
-    if (o != std::string::npos && o > piece && (name.empty() || o > section)) section = o, name = open;
-  }
+  const std::string name = section_of(text, at).second;
   const std::string array = xml_attribute(tag, "Name");
   double needed = 0;
   if (name == "<Points" || name == "<PointData") needed = std::max(np, 0.0) * components;
@@ -273,13 +281,8 @@ void check_declared_sizes(const std::string& path) {
     if (n * components * 8 > budget) refuse("a DataArray (NumberOfComponents x tuples)", n * components * 8);
     // Two arrays of one name in a section make VTK dereference null (fuzz_vtu: a second
     // max_scaled_jacobian in CellData).
-    std::size_t section = 0;
-    for (const char* open : {"<Piece", "<Points", "<PointData", "<CellData", "<Cells"}) {
-      const std::size_t o = text.rfind(open, at);
-      if (o != std::string::npos) section = std::max(section, o);
-    }
     const std::string array_name = xml_attribute(tag, "Name");
-    if (!array_name.empty() && !names.insert({section, array_name}).second)
+    if (!array_name.empty() && !names.insert({section_of(text, at).first, array_name}).second)
       throw core::InvalidInputError(path + ": malformed .vtu file: two arrays named '" + array_name.substr(0, 60) + "' in one section");
     const std::string format = xml_attribute(tag, "format");
     if (format == "ascii") check_ascii_array(path, text, at, tag, components);
