@@ -1,9 +1,10 @@
 // volts-polycube: stage 3 (Liu et al. §4.2–4.3). Reads split.stage.json, builds the polycube and
 // maps the surface onto it; writes polycube.stage.json, polycube.vtp and polycube_mapped.vtp
-// (tori and two tori also the volume map's tets: polycube_tets.vtu, polycube_tets_mapped.vtu).
+// (tori, two tori and differences also the volume map's tets: polycube_tets.vtu, polycube_tets_mapped.vtu).
 #include <algorithm>
 
 #include "core/log.h"
+#include "polycube/difference.h"
 #include "polycube/embedding.h"
 #include "polycube/polycube.h"
 #include "polycube/rings.h"
@@ -106,6 +107,48 @@ core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::D
   return r;
 }
 
+// A cube minus a through hole (Liu et al. §4.2 difference, §4.3): the solid (fills excluded) onto
+// the unit cube minus the hole's box, surface then volume.
+core::Json difference(pipeline::StageContext& ctx, const core::Json& j, const split::Decomposition& d) {
+  polycube::DifferenceMap m;
+  {
+    core::LogSection s("surface map");
+    polycube::PatchMapParams pp;
+    pp.weights = ctx.config.polycube.weights;
+    m = polycube::map_difference_surface(d, pp);
+  }
+  if (m.flipped_surface_triangles > 0)
+    core::log_warning(std::to_string(m.flipped_surface_triangles) + " surface triangles are flipped by the map");
+  volmap::VolumeMap vm;
+  {
+    core::LogSection s("volume map");
+    vm = polycube::difference_volume_map(d, m, ctx.config.polycube);
+  }
+  if (vm.flipped_tets > 0)
+    core::log_warning(std::to_string(vm.flipped_tets) + " tets stay flipped after untangling (it stopped: " + vm.untangle_stop + " after " +
+                      std::to_string(vm.untangle_sweeps) + " sweeps; see polycube_tets_mapped.vtu); a smaller "
+                      "polycube.tet_max_volume_rel can help, else set `route: tet`");
+  {
+    core::LogSection s("write");
+    core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
+                           {{"kind", "difference"}, {"surface", j["surface"]}, {"classification", j["classification"]},
+                            {"decomposition", j["decomposition"]}, {"polycube", polycube::to_json(m)}, {"volume_map", volmap::to_json(vm)}});
+    polycube::write_difference_vtp(ctx.path("polycube.vtp"), d, m, false);
+    polycube::write_difference_vtp(ctx.path("polycube_mapped.vtp"), d, m, true);
+    volmap::write_vtu(ctx.path("polycube_tets.vtu"), vm);
+    volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), vm);
+  }
+  core::Json r = volmap::report_figures(vm);
+  r["cubes"] = 1;
+  r["tori"] = 0;
+  r["virtual_components"] = 1;
+  r["hole_axis"] = m.axis;
+  r["hole_width"] = m.hole_hi[(m.axis + 1) % 3] - m.hole_lo[(m.axis + 1) % 3];
+  r["flipped_surface_triangles"] = m.flipped_surface_triangles;
+  r["max_angle_distortion_deg"] = m.max_angle_distortion_deg;
+  return r;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -114,7 +157,8 @@ int main(int argc, char** argv) {
       "(bijective disk map per patch). Input: DIR/split.stage.json. Output: DIR/polycube.stage.json,\n"
       "DIR/polycube.vtp (surface with cube coordinates 'uvw'), DIR/polycube_mapped.vtp (the surface on the cube);\n"
       "tori also DIR/polycube_tets.vtu and DIR/polycube_tets_mapped.vtu (the volume map's tets, physical and mapped);\n"
-      "two tori meeting on a disk: one ring per torus (cell field 'ring'; ring i drawn 5i along x when mapped).",
+      "two tori meeting on a disk: one ring per torus (cell field 'ring'; ring i drawn 5i along x when mapped);\n"
+      "a cube minus a through hole: the unit cube minus the hole's box (polycube.hole_lo/hole_hi), tets too.",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("split");
         const core::Json j = core::read_stage_file(in, "volts-split", 2);
@@ -126,6 +170,8 @@ int main(int argc, char** argv) {
         pipeline::check_decomposition(in, c, d);
         if (d.tori.size() == 1 && d.components.size() == d.tori[0].components.size()) return torus(ctx, j, d);
         if (!d.tori.empty()) return tori(ctx, j, d);  // two tori on a disk, else a TopologyError naming the components
+        for (const auto& comp : d.components)
+          if (comp.type == split::ComponentType::virtual_component) return difference(ctx, j, d);
         polycube::Polycube p;
         {
           core::LogSection s("surface map");

@@ -74,103 +74,108 @@ std::vector<char> consistent_orientation(const split::Layout& L, const std::vect
   return rev;
 }
 
-std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapParams& params) {
+std::map<int, std::array<double, 2>> harmonic_positions(const split::Layout& L, const std::vector<int>& triangles,
+                                                        const std::map<int, std::array<double, 2>>& fixed,
+                                                        const PatchMapParams& params, const std::string& what) {
   if (params.weights != "mean-value" && params.weights != "uniform")
     throw core::ConfigError("polycube.weights must be 'mean-value' or 'uniform', not '" + params.weights + "'");
+  std::map<int, std::array<double, 2>> at;  // ordered: deterministic assembly
+  for (int t : triangles)
+    for (int v : L.triangles[t]) {
+      const auto f = fixed.find(v);
+      at.emplace(v, f == fixed.end() ? std::array<double, 2>{0, 0} : f->second);
+    }
+  std::map<int, int> unknown;
+  for (const auto& [v, x] : at)
+    if (!fixed.count(v)) unknown.emplace(v, static_cast<int>(unknown.size()));
+  if (unknown.empty()) return at;
+  std::vector<std::map<int, double>> w(unknown.size());
+  for (int t : triangles) {
+    const auto& tr = L.triangles[t];
+    for (int c = 0; c < 3; ++c) {
+      const int i = tr[c], j = tr[(c + 1) % 3], k = tr[(c + 2) % 3];
+      const auto ui = unknown.find(i);
+      if (ui == unknown.end()) continue;
+      if (params.weights == "uniform") {
+        w[ui->second][j] += 0.5, w[ui->second][k] += 0.5;  // each edge is seen from two triangles
+        continue;
+      }
+      const double half = std::tan(angle_at(L.points[i], L.points[j], L.points[k], 3) / 2);
+      w[ui->second][j] += half / dist(L.points[i], L.points[j]);
+      w[ui->second][k] += half / dist(L.points[i], L.points[k]);
+    }
+  }
+  const int nu = static_cast<int>(unknown.size());
+  std::vector<Eigen::Triplet<double>> trip;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nu, 2);
+  for (const auto& [v, row] : unknown) {
+    double sum = 0;
+    for (const auto& [j, wij] : w[row]) {
+      sum += wij;
+      const auto uj = unknown.find(j);
+      if (uj != unknown.end()) trip.emplace_back(row, uj->second, -wij);
+      else rhs(row, 0) += wij * at.at(j)[0], rhs(row, 1) += wij * at.at(j)[1];
+    }
+    trip.emplace_back(row, row, sum);
+  }
+  Eigen::SparseMatrix<double> A(nu, nu);
+  A.setFromTriplets(trip.begin(), trip.end());
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+  lu.compute(A);
+  if (lu.info() != Eigen::Success) throw core::NumericalError("polycube: the disk map of " + what + " is singular");
+  const Eigen::MatrixXd x = lu.solve(rhs);
+  if (lu.info() != Eigen::Success || !x.allFinite()) throw core::NumericalError("polycube: the disk map of " + what + " failed");
+  for (const auto& [v, row] : unknown) at[v] = {x(row, 0), x(row, 1)};
+  return at;
+}
+
+MapQuality map_quality(const split::Layout& L, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& at) {
+  // One consistent orientation of the triangles (a patch may hold fill triangles stored the other
+  // way round: the disk where two tori meet).
+  const std::vector<char> rev = consistent_orientation(L, triangles);
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  MapQuality q;
+  int positive = 0, negative = 0;
+  std::vector<CGAL::Orientation> o;
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    auto tr = L.triangles[triangles[i]];
+    if (rev[i]) std::swap(tr[1], tr[2]);
+    const std::array<std::array<double, 2>, 3> x{at.at(tr[0]), at.at(tr[1]), at.at(tr[2])};
+    o.push_back(CGAL::orientation(K::Point_2(x[0][0], x[0][1]), K::Point_2(x[1][0], x[1][1]), K::Point_2(x[2][0], x[2][1])));
+    positive += o.back() == CGAL::POSITIVE, negative += o.back() == CGAL::NEGATIVE;
+    for (int k = 0; k < 3; ++k) {
+      const double on_surface = angle_at(L.points[tr[k]], L.points[tr[(k + 1) % 3]], L.points[tr[(k + 2) % 3]], 3);
+      const double in_plane = angle_at(x[k], x[(k + 1) % 3], x[(k + 2) % 3], 2);
+      q.max_angle_distortion_deg = std::max(q.max_angle_distortion_deg, std::abs(in_plane - on_surface) * 180 / kPi);
+    }
+  }
+  // The orientation of the majority is the patch's own (its triangles all share one orientation on
+  // the surface, so any triangle against the majority, or degenerate, is a flip).
+  const CGAL::Orientation good = positive >= negative ? CGAL::POSITIVE : CGAL::NEGATIVE;
+  for (auto x : o) q.flipped_triangles += x != good;
+  return q;
+}
+
+std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapParams& params) {
   const split::Layout& L = d.layout;
   static const std::array<std::array<double, 2>, 4> corner{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}};
   std::vector<PatchMap> out;
   for (std::size_t pi = 0; pi < L.patches.size(); ++pi) {
     const split::Patch& P = L.patches[pi];
-    std::map<int, int> local;  // layout vertex -> index
-    for (int t : P.triangles)
-      for (int v : L.triangles[t]) local.emplace(v, 0);
-    PatchMap m;
-    for (auto& [v, i] : local) i = static_cast<int>(m.vertices.size()), m.vertices.push_back(v);
-    const int n = static_cast<int>(m.vertices.size());
-    m.st.assign(n, {0, 0});
-    std::vector<char> fixed(n, 0);
-    // Sides onto the square's edges by arc length.
+    // Sides onto the square's edges by arc length, the interior by one solve.
+    std::map<int, std::array<double, 2>> fixed;
     for (int k = 0; k < 4; ++k) {
       const auto frac = arc_length_fractions(L, P.sides[k]);
       const auto& a = corner[k];
       const auto& b = corner[(k + 1) % 4];
-      for (std::size_t i = 0; i < P.sides[k].size(); ++i) {
-        const int v = local.at(P.sides[k][i]);
-        m.st[v] = {a[0] + frac[i] * (b[0] - a[0]), a[1] + frac[i] * (b[1] - a[1])};
-        fixed[v] = 1;
-      }
+      for (std::size_t i = 0; i < P.sides[k].size(); ++i) fixed[P.sides[k][i]] = {a[0] + frac[i] * (b[0] - a[0]), a[1] + frac[i] * (b[1] - a[1])};
     }
-    // Interior: one sparse solve for both coordinates.
-    std::vector<int> unknown(n, -1);
-    int nu = 0;
-    for (int v = 0; v < n; ++v)
-      if (!fixed[v]) unknown[v] = nu++;
-    std::vector<std::map<int, double>> w(n);  // ordered: deterministic assembly
-    for (int t : P.triangles) {
-      const auto& tr = L.triangles[t];
-      for (int c = 0; c < 3; ++c) {
-        const int i = tr[c], j = tr[(c + 1) % 3], k = tr[(c + 2) % 3];
-        const int li = local.at(i);
-        if (unknown[li] < 0) continue;
-        if (params.weights == "uniform") {
-          w[li][local.at(j)] += 0.5, w[li][local.at(k)] += 0.5;  // each edge is seen from two triangles
-          continue;
-        }
-        const double half = std::tan(angle_at(L.points[i], L.points[j], L.points[k], 3) / 2);
-        w[li][local.at(j)] += half / dist(L.points[i], L.points[j]);
-        w[li][local.at(k)] += half / dist(L.points[i], L.points[k]);
-      }
-    }
-    if (nu > 0) {
-      std::vector<Eigen::Triplet<double>> trip;
-      Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nu, 2);
-      for (int v = 0; v < n; ++v) {
-        if (unknown[v] < 0) continue;
-        double sum = 0;
-        for (const auto& [j, wij] : w[v]) {
-          sum += wij;
-          if (unknown[j] >= 0) trip.emplace_back(unknown[v], unknown[j], -wij);
-          else rhs(unknown[v], 0) += wij * m.st[j][0], rhs(unknown[v], 1) += wij * m.st[j][1];
-        }
-        trip.emplace_back(unknown[v], unknown[v], sum);
-      }
-      Eigen::SparseMatrix<double> A(nu, nu);
-      A.setFromTriplets(trip.begin(), trip.end());
-      Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-      lu.compute(A);
-      if (lu.info() != Eigen::Success) throw core::NumericalError("polycube: the disk map of patch " + std::to_string(pi) + " is singular");
-      const Eigen::MatrixXd x = lu.solve(rhs);
-      if (lu.info() != Eigen::Success || !x.allFinite()) throw core::NumericalError("polycube: the disk map of patch " + std::to_string(pi) + " failed");
-      for (int v = 0; v < n; ++v)
-        if (unknown[v] >= 0) m.st[v] = {x(unknown[v], 0), x(unknown[v], 1)};
-    }
-    // One consistent orientation of the patch's triangles (a patch may hold fill triangles stored
-    // the other way round: the disk where two tori meet).
-    const std::vector<char> rev = consistent_orientation(L, P.triangles);
-    // Flips: every triangle must turn like the majority in the square (exact predicate).
-    using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-    int positive = 0, negative = 0;
-    std::vector<CGAL::Orientation> o;
-    for (std::size_t i = 0; i < P.triangles.size(); ++i) {
-      auto tr = L.triangles[P.triangles[i]];
-      if (rev[i]) std::swap(tr[1], tr[2]);
-      const auto& a = m.st[local.at(tr[0])];
-      const auto& b = m.st[local.at(tr[1])];
-      const auto& c = m.st[local.at(tr[2])];
-      o.push_back(CGAL::orientation(K::Point_2(a[0], a[1]), K::Point_2(b[0], b[1]), K::Point_2(c[0], c[1])));
-      positive += o.back() == CGAL::POSITIVE, negative += o.back() == CGAL::NEGATIVE;
-      std::array<std::array<double, 2>, 3> q{a, b, c};
-      for (int k = 0; k < 3; ++k) {
-        const double on_surface = angle_at(L.points[tr[k]], L.points[tr[(k + 1) % 3]], L.points[tr[(k + 2) % 3]], 3);
-        const double in_square = angle_at(q[k], q[(k + 1) % 3], q[(k + 2) % 3], 2);
-        m.max_angle_distortion_deg = std::max(m.max_angle_distortion_deg, std::abs(in_square - on_surface) * 180 / kPi);
-      }
-    }
-    // The patch's own orientation: that of the majority (its triangles all share one orientation
-    // on the surface, so any triangle against the majority, or degenerate, is a flip).
-    const CGAL::Orientation good = positive >= negative ? CGAL::POSITIVE : CGAL::NEGATIVE;
-    for (auto x : o) m.flipped_triangles += x != good;
+    const auto at = harmonic_positions(L, P.triangles, fixed, params, "patch " + std::to_string(pi));
+    PatchMap m;
+    for (const auto& [v, x] : at) m.vertices.push_back(v), m.st.push_back(x);
+    const MapQuality q = map_quality(L, P.triangles, at);
+    m.flipped_triangles = q.flipped_triangles;
+    m.max_angle_distortion_deg = q.max_angle_distortion_deg;
     out.push_back(std::move(m));
   }
   return out;

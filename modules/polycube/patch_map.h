@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,23 @@ struct PatchMap {
 struct PatchMapParams {
   std::string weights = "mean-value";  ///< "mean-value" (Floater 2003) or "uniform" (Tutte 1963)
 };
+
+/// 2D positions of the vertices of `triangles` (layout ids): those in `fixed` where they are given,
+/// every other one the weighted average of its neighbours (params.weights) — one sparse solve for
+/// both coordinates. Returns every vertex of the triangles. Throws core::ConfigError for unknown
+/// weights, core::NumericalError naming `what` if the system is singular (a free vertex not
+/// connected to a fixed one).
+std::map<int, std::array<double, 2>> harmonic_positions(const split::Layout& layout, const std::vector<int>& triangles,
+                                                        const std::map<int, std::array<double, 2>>& fixed,
+                                                        const PatchMapParams& params, const std::string& what);
+
+/// Quality of a planar map of some triangles.
+struct MapQuality {
+  int flipped_triangles = 0;             ///< images turning against the majority, or degenerate (CGAL exact orientation)
+  double max_angle_distortion_deg = 0;   ///< max |angle in the plane − angle on the surface| over triangle corners
+};
+/// The triangles (layout ids, oriented consistently first) at the 2D positions `at`.
+MapQuality map_quality(const split::Layout& layout, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& at);
 
 /// Maps every patch of a decomposition. Throws core::ConfigError for unknown weights,
 /// core::NumericalError if a patch's linear system cannot be solved.

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/errors.h"
+#include "polycube/cube_frame.h"
 #include "surface/mesh_json.h"
 #include "viz/viz.h"
 
@@ -37,44 +38,16 @@ double corner_angle(const Vec3& p, const Vec3& q, const Vec3& r) {  // angle at 
 
 Vec3 to_vec(const surface::Point& p) { return {p.x(), p.y(), p.z()}; }
 
-// Cube corner codes (bit a = coordinate a) for the corners, from the corner graph of the curves:
-// corner 0 is the origin, its three neighbours the unit vectors, every other corner the OR of its
-// assigned neighbours. Any inconsistency means the curves do not form a cube graph.
 std::vector<int> cube_codes(const classify::Classification& c) {
   std::map<int, int> corner_of_vertex;
   for (std::size_t i = 0; i < c.corners.size(); ++i) corner_of_vertex[c.corners[i]] = static_cast<int>(i);
-  const int n = static_cast<int>(c.corners.size());
-  std::vector<std::set<int>> adj(n);
+  std::vector<std::set<int>> adj(c.corners.size());
   for (const auto& k : c.curves) {
     const int a = corner_of_vertex.at(k.vertices.front()), b = corner_of_vertex.at(k.vertices.back());
     adj[a].insert(b);
     adj[b].insert(a);
   }
-  std::vector<int> code(n, -1);
-  code[0] = 0;
-  int bit = 1;
-  for (int b : adj[0]) {
-    if (bit > 4) break;
-    code[b] = bit;
-    bit <<= 1;
-  }
-  for (int round = 0; round < n; ++round)
-    for (int v = 0; v < n; ++v) {
-      if (code[v] >= 0) continue;
-      int known = 0, acc = 0;
-      for (int w : adj[v])
-        if (code[w] >= 0) ++known, acc |= code[w];
-      if (known >= 2) code[v] = acc;
-    }
-  std::set<int> distinct(code.begin(), code.end());
-  bool ok = n == 8 && distinct.size() == 8 && !distinct.count(-1);
-  for (const auto& k : c.curves) {
-    if (!ok) break;
-    const int x = code[corner_of_vertex.at(k.vertices.front())] ^ code[corner_of_vertex.at(k.vertices.back())];
-    ok = x == 1 || x == 2 || x == 4;
-  }
-  if (!ok) throw core::TopologyError("polycube: the corners and curves do not form the graph of a cube");
-  return code;
+  return detail::cube_codes(adj);
 }
 
 }  // namespace
