@@ -6,7 +6,9 @@
 #include <memory>
 #include "stage_main.h"
 #include "surface/mesh_json.h"
+#include "polycube/difference.h"
 #include "polycube/embedding.h"
+#include "tmesh/pillow.h"
 #include "tmesh/optimize.h"
 #include "tmesh/tmesh.h"
 #include "volmap/volmap.h"
@@ -152,6 +154,30 @@ int main(int argc, char** argv) {
             }
           }
           return build_and_write(ctx, j["surface"], ring_maps(rings));
+        }
+        if (kind == "difference") {
+          // A cube minus a through hole: the blocks around the hole (pillowed under the outer
+          // faces and the walls alike), every point through the volume map.
+          const polycube::DifferenceMap m = polycube::difference_from_json(core::require(j, "polycube", in), in);
+          std::unique_ptr<volmap::Locator> locate;
+          {
+            core::LogSection s("volume map");
+            const volmap::VolumeMap vm = volmap::from_json(core::require(j, "volume_map", in), in);
+            if (vm.flipped_tets > 0)
+              throw core::NumericalError(in + ": the volume map has " + std::to_string(vm.flipped_tets) +
+                                         " flipped tets, so the spline would fold (see polycube_tets_mapped.vtu): rerun polycube with a "
+                                         "smaller polycube.tet_max_volume_rel, or set `route: tet`");
+            locate = std::make_unique<volmap::Locator>(vm);
+          }
+          tmesh::PolycubeMaps maps;
+          maps.blocks = {tmesh::difference_blocks(m.axis, m.hole_lo, m.hole_hi, 1 << ctx.config.tmesh.level, ctx.config.tmesh.pillow_layers)};
+          maps.physical = [&locate](int, const tmesh::Vec3& abc) {
+            const auto p = locate->physical(abc);
+            if (!p) throw core::NumericalError("tmesh: a point of the cube minus the hole lies outside the volume map");
+            return *p;
+          };
+          maps.polycube = [](int, const tmesh::Vec3& abc) { return abc; };
+          return build_and_write(ctx, j["surface"], maps);
         }
         if (kind != "cube") throw core::InvalidInputError(in + ": unknown polycube kind '" + kind + "'");
         pipeline::check_integer_members(in, j);

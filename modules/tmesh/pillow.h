@@ -18,21 +18,25 @@
 
 namespace volts::tmesh {
 
-/// A block of a cube: corners in cube parameters (index a + 2b + 4c), elements per direction,
-/// per block face 2*axis + side whether it lies on the surface, and whether it is a pillow slab.
-struct Block {
-  std::array<Vec3, 8> corners;
-  std::array<int, 3> elements{1, 1, 1};
-  std::array<int, 6> boundary{0, 0, 0, 0, 0, 0};
-  bool pillow = false;
-};
-
 /// The blocks of a cube with `elements` per direction and surface faces `boundary`: the cube
 /// itself if layers == 0, else the core (the `elements` counts) and one slab of `layers` elements
 /// per surface face. The pillow's parametric thickness is that of `layers` core elements, so the
 /// parameter spacing stays uniform across the cube. Throws core::ConfigError if layers < 0 or an
 /// element count < 1.
 std::vector<Block> cube_blocks(const std::array<int, 6>& boundary, const std::array<int, 3>& elements, int layers);
+
+/// The blocks of a cube minus a through hole (Liu et al. 2013 §4.2 difference, §5.2 pillowing
+/// around "virtual cylinders"): the unit cube minus the box [hole_lo, hole_hi], which spans the cube
+/// along `axis`. Without layers: the eight columns around the hole, cut along the planes of its
+/// walls. With layers: a pillow of `layers` elements under every boundary face, outer and inner
+/// alike — a core (the solid shrunk by the pillow's thickness, eight columns) and frusta between it
+/// and the faces: three under each side of the cube, eight under each holed face, one under each
+/// wall. Every block face is a boundary face or the whole face of exactly one other block, with
+/// the same element counts. `elements` is the count along a cube edge, spread over the columns by
+/// length (at least one each); the pillow's thickness is that of `layers` elements. Throws
+/// core::ConfigError for layers < 0 or elements < 1, core::TopologyError if the hole is not a box
+/// through the cube along `axis` or lies too close to the cube's sides for the pillow.
+std::vector<Block> difference_blocks(int axis, const Vec3& hole_lo, const Vec3& hole_hi, int elements, int layers);
 
 /// Cube parameters of block parameters uvw (trilinear in the corners).
 Vec3 block_point(const std::array<Vec3, 8>& corners, const Vec3& uvw);

@@ -136,10 +136,11 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params) {
   std::vector<TMesh> blocks;
   std::vector<std::vector<Vec3>> keys;
   double extent = 0;
-  core::Progress progress("blocks", maps.boundary.size());
-  for (std::size_t k = 0; k < maps.boundary.size(); ++k) {
+  const std::size_t cubes = maps.blocks.empty() ? maps.boundary.size() : maps.blocks.size();
+  core::Progress progress("blocks", cubes);
+  for (std::size_t k = 0; k < cubes; ++k) {
     const int cube = static_cast<int>(k);
-    for (const Block& b : cube_blocks(maps.boundary[k], {n, n, n}, params.pillow_layers)) {
+    for (const Block& b : maps.blocks.empty() ? cube_blocks(maps.boundary[k], {n, n, n}, params.pillow_layers) : maps.blocks[k]) {
       TMesh t = build_block([&](const Vec3& uvw) { return maps.physical(cube, block_point(b.corners, uvw)); }, params.degree, b.elements);
       t.level = params.level;
       t.boundary = b.boundary;

@@ -54,6 +54,15 @@ struct TMesh {
   int elements() const;  ///< product of the knot spans in the three directions
 };
 
+/// A block of a cube (pillow.h): corners in cube parameters (index a + 2b + 4c), elements per
+/// direction, per block face 2*axis + side whether it lies on the surface, and whether it is a pillow slab.
+struct Block {
+  std::array<Vec3, 8> corners;
+  std::array<int, 3> elements{1, 1, 1};
+  std::array<int, 6> boundary{0, 0, 0, 0, 0, 0};
+  bool pillow = false;
+};
+
 /// A map from the unit cube's parameters to physical space.
 using PointMap = std::function<Vec3(const Vec3&)>;
 
@@ -63,6 +72,9 @@ using PointMap = std::function<Vec3(const Vec3&)>;
 /// of neighbouring cubes find their shared control points).
 struct PolycubeMaps {
   std::vector<std::array<int, 6>> boundary;  ///< per cube, per face 2*axis + side: 1 on the surface
+  /// Optional: the blocks of each cube given explicitly (difference_blocks); then `boundary` is not
+  /// used and the cubes are these. Empty: each cube's blocks are cube_blocks of its `boundary`.
+  std::vector<std::vector<Block>> blocks;
   std::function<Vec3(int, const Vec3&)> physical;
   std::function<Vec3(int, const Vec3&)> polycube;
 };

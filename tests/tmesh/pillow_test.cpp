@@ -4,9 +4,11 @@
 // edges that a map flattens (a cube onto a solid cylinder, Fig. 9(a-b)).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
+#include "core/errors.h"
 #include "tmesh/pillow.h"
 #include "tmesh/tmesh.h"
 
@@ -140,4 +142,97 @@ TEST(Pillow, PillowRemovesTheElementsDegeneratedByAFlattenedCubeEdge) {
   int elements = 0;
   for (const auto& t : pillowed) elements += t.elements();
   EXPECT_EQ(elements, 8 * 8 * 8 + 4 * 8 * 8);
+}
+
+namespace {
+
+// Every block face is either on the surface (flagged, and no other block's face) or the whole face
+// of exactly one other block with the same element count along each of its edges. Returns the
+// total area of the flagged faces.
+double check_conforming(const std::vector<tmesh::Block>& blocks) {
+  using Key = std::array<std::array<long long, 3>, 4>;
+  auto round = [](const Vec3& p) {
+    return std::array<long long, 3>{std::llround(p[0] * 1e9), std::llround(p[1] * 1e9), std::llround(p[2] * 1e9)};
+  };
+  struct Seen {
+    int count = 0, boundary = 0;
+    std::map<std::pair<std::array<long long, 3>, std::array<long long, 3>>, int> edges;
+  };
+  std::map<Key, Seen> faces;
+  double area = 0;
+  for (const auto& b : blocks)
+    for (int a = 0; a < 3; ++a)
+      for (int s = 0; s < 2; ++s) {
+        const int u = (a + 1) % 3, v = (a + 2) % 3;
+        std::array<std::array<long long, 3>, 4> c;  // corners (0,0), (1,0), (0,1), (1,1) in (u, v)
+        std::array<Vec3, 4> x;
+        for (int k = 0; k < 4; ++k) {
+          const int i = (s << a) | ((k & 1) << u) | ((k >> 1) << v);
+          x[static_cast<std::size_t>(k)] = b.corners[static_cast<std::size_t>(i)];
+          c[static_cast<std::size_t>(k)] = round(x[static_cast<std::size_t>(k)]);
+        }
+        Key key = c;
+        std::sort(key.begin(), key.end());
+        Seen& f = faces[key];
+        ++f.count;
+        f.boundary += b.boundary[static_cast<std::size_t>(2 * a + s)];
+        auto edge = [&](int p, int q, int n) {
+          auto e = std::minmax(c[static_cast<std::size_t>(p)], c[static_cast<std::size_t>(q)]);
+          const auto [it, fresh] = f.edges.emplace(std::make_pair(e.first, e.second), n);
+          EXPECT_TRUE(fresh || it->second == n) << "element counts differ across a shared face";
+        };
+        edge(0, 1, b.elements[static_cast<std::size_t>(u)]), edge(2, 3, b.elements[static_cast<std::size_t>(u)]);
+        edge(0, 2, b.elements[static_cast<std::size_t>(v)]), edge(1, 3, b.elements[static_cast<std::size_t>(v)]);
+        if (b.boundary[static_cast<std::size_t>(2 * a + s)]) {  // planar quads here: |diagonal cross product| / 2
+          Vec3 d1, d2;
+          for (int k = 0; k < 3; ++k) d1[k] = x[3][k] - x[0][k], d2[k] = x[2][k] - x[1][k];
+          area += 0.5 * std::sqrt(std::pow(d1[1] * d2[2] - d1[2] * d2[1], 2) + std::pow(d1[2] * d2[0] - d1[0] * d2[2], 2) +
+                                  std::pow(d1[0] * d2[1] - d1[1] * d2[0], 2));
+        }
+      }
+  for (const auto& [key, f] : faces) {
+    if (f.boundary) {
+      EXPECT_EQ(f.count, 1) << "a surface face shared by another block";
+    } else {
+      EXPECT_EQ(f.count, 2) << "an inner face that is not the whole face of exactly one other block";
+    }
+  }
+  return area;
+}
+
+}  // namespace
+
+// A cube minus a through hole (Liu et al. §4.2 difference; §5.2 pillow around virtual cylinders):
+// the blocks tile the cube minus the hole with positive Jacobian, conform face to face, their
+// surface faces cover the solid's boundary once, and with a pillow no block has two surface faces.
+TEST(Pillow, DifferenceBlocksTileTheCubeMinusTheHoleConformingly) {
+  for (int axis = 0; axis < 3; ++axis)
+    for (int layers = 0; layers <= 2; ++layers) {
+      SCOPED_TRACE("axis " + std::to_string(axis) + ", layers " + std::to_string(layers));
+      Vec3 lo{0.3, 0.25, 0.4}, hi{0.6, 0.7, 0.55};
+      lo[static_cast<std::size_t>(axis)] = 0, hi[static_cast<std::size_t>(axis)] = 1;
+      const auto blocks = tmesh::difference_blocks(axis, lo, hi, 16, layers);
+      EXPECT_EQ(blocks.size(), layers ? 40u : 8u);
+      double volume = 0;
+      for (const auto& b : blocks) {
+        double min_det = 0;
+        volume += block_volume(b.corners, &min_det);
+        EXPECT_GT(min_det, 0);
+        int on = 0;
+        for (const int x : b.boundary) on += x;
+        if (layers) {
+          EXPECT_EQ(on, b.pillow ? 1 : 0);
+        }
+        for (const int n : b.elements) EXPECT_GE(n, 1);
+      }
+      const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+      const double wx = hi[a1] - lo[a1], wy = hi[a2] - lo[a2];
+      EXPECT_NEAR(volume, 1 - wx * wy, 1e-9);
+      EXPECT_NEAR(check_conforming(blocks), 4 + 2 * (1 - wx * wy) + 2 * (wx + wy), 1e-9) << "surface faces: 4 sides, 2 annuli, 4 walls";
+    }
+  // The single cube's pillow conforms too.
+  EXPECT_NEAR(check_conforming(tmesh::cube_blocks({1, 1, 1, 1, 1, 1}, {4, 5, 6}, 1)), 6.0, 1e-9);
+  // A hole too close to the side for the pillow, or not through the cube, is refused.
+  EXPECT_THROW(tmesh::difference_blocks(2, {0.05, 0.3, 0}, {0.5, 0.6, 1}, 8, 1), core::TopologyError);
+  EXPECT_THROW(tmesh::difference_blocks(2, {0.3, 0.3, 0.1}, {0.6, 0.6, 1}, 8, 1), core::TopologyError);
 }
