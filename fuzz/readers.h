@@ -11,7 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/stage_file.h"
-#include "polycube/polycube.h"
+#include "polycube_input.h"
 #include "split/split.h"
 #include "stage_main.h"
 #include "surface/mesh_json.h"
@@ -53,8 +53,9 @@ inline void read_input(const std::string& kind, const std::string& path) {
     if (stage == "classify") return;
     const split::Decomposition d = split::from_json(core::require(j, "decomposition", path), path);
     pipeline::check_decomposition(path, c, d);
-    if (stage == "polycube")
-      pipeline::check_polycube(path, mesh, c, polycube::from_json(core::require(j, "polycube", path), path));
+    // What volts-tmesh reads: every kind of polycube with its volume map (at the default T-mesh
+    // parameters, which only shape a difference's blocks).
+    if (stage == "polycube") (void)pipeline::read_polycube_input(path, tmesh::Params{});
   } else {
     throw std::logic_error("unknown reader kind " + kind);
   }

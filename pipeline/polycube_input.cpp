@@ -1,0 +1,168 @@
+#include "polycube_input.h"
+
+#include <Eigen/Dense>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "core/errors.h"
+#include "core/log.h"
+#include "polycube/difference.h"
+#include "polycube/embedding.h"
+#include "polycube/polycube.h"
+#include "stage_main.h"
+#include "surface/mesh_json.h"
+#include "tmesh/pillow.h"
+#include "volmap/volmap.h"
+
+namespace volts::pipeline {
+
+namespace {
+
+// One ring of cubes (a torus, §4.2): its embedding and the point location of its volume map.
+struct Ring {
+  polycube::Embedding embedding;
+  std::unique_ptr<volmap::Locator> locate;
+  bool swap = false;  // b <-> c, so that the cubes' parameters are right-handed in physical space
+};
+
+Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vmj) {
+  Ring r;
+  const volmap::VolumeMap vm = volmap::from_json(vmj, in);
+  if (vm.flipped_tets > 0)
+    throw core::NumericalError(in + ": the volume map has " + std::to_string(vm.flipped_tets) +
+                               " flipped tets, so the spline would fold (see polycube_tets_mapped.vtu): rerun polycube with a "
+                               "smaller polycube.tet_max_volume_rel, or set `route: tet`");
+  // Points of the round ring outside the surface's chords by up to the recorded gap snap onto it.
+  const double gap = core::require(pc, "boundary_gap", in).get<double>();
+  Eigen::Vector3d lo = vm.parameter.at(0), hi = lo;
+  for (const auto& p : vm.parameter) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  r.locate = std::make_unique<volmap::Locator>(vm, std::max(1e-6, 2 * gap / (hi - lo).norm()));
+  polycube::Embedding& e = r.embedding;
+  try {
+    const auto cells = core::require(pc, "cells", in).get<std::vector<double>>();
+    if (cells.empty() || cells.size() % 24) throw core::InvalidInputError(in + ": polycube.cells needs 24 numbers per cube");
+    e.cells.resize(cells.size() / 24);
+    e.ring = core::require(pc, "ring", in).get<int>();
+    e.mirrored = core::require(pc, "mirrored", in).get<bool>();
+    if (e.ring != static_cast<int>(e.cells.size())) throw core::InvalidInputError(in + ": polycube.ring does not match its cells");
+    for (std::size_t i = 0; i < cells.size(); ++i) e.cells[i / 24][(i % 24) / 3][i % 3] = cells[i];
+  } catch (const core::Json::exception& x) {
+    throw core::InvalidInputError(in + ": malformed polycube.cells: " + x.what());
+  }
+  // The ring's local frame is right- or left-handed depending on the directions split chose; the
+  // sign of the map's Jacobian at the first cube's centre (central differences) tells which.
+  const double h = 0.05;
+  std::array<Eigen::Vector3d, 3> d;
+  for (int a = 0; a < 3; ++a) {
+    std::array<double, 3> lo3{0.5, 0.5, 0.5}, hi3{0.5, 0.5, 0.5};
+    lo3[a] -= h, hi3[a] += h;
+    const auto p = r.locate->physical(polycube::cell_point(e, 0, hi3));
+    const auto q = r.locate->physical(polycube::cell_point(e, 0, lo3));
+    if (!p || !q) throw core::NumericalError(in + ": the first cube's centre is outside the volume map");
+    d[a] = Eigen::Vector3d((*p)[0] - (*q)[0], (*p)[1] - (*q)[1], (*p)[2] - (*q)[2]);
+  }
+  r.swap = d[0].dot(d[1].cross(d[2])) < 0;
+  return r;
+}
+
+// Tori: every ring's cubes, numbered ring after ring; a = 0 and a = 1 are cross sections (shared
+// with the neighbouring cube), the other four faces lie on the surface. Rings are translated apart
+// in polycube space so their points never coincide.
+tmesh::PolycubeMaps ring_maps(std::vector<Ring> list) {
+  const auto rings = std::make_shared<const std::vector<Ring>>(std::move(list));
+  tmesh::PolycubeMaps m;
+  std::vector<std::pair<int, int>> cube;  // (ring, cube in ring)
+  for (std::size_t r = 0; r < rings->size(); ++r)
+    for (int k = 0; k < (*rings)[r].embedding.ring; ++k) cube.emplace_back(static_cast<int>(r), k), m.boundary.push_back({0, 0, 1, 1, 1, 1});
+  auto local = [rings, cube](int c, std::array<double, 3> abc) {
+    const auto [r, k] = cube.at(static_cast<std::size_t>(c));
+    const Ring& ring = (*rings)[static_cast<std::size_t>(r)];
+    if (ring.swap) std::swap(abc[1], abc[2]);
+    return std::make_pair(r, polycube::cell_point(ring.embedding, k, abc));
+  };
+  m.polycube = [local](int c, const tmesh::Vec3& abc) {
+    auto [r, x] = local(c, abc);
+    x[0] += 10.0 * r;  // the round ring's radius is 2
+    return x;
+  };
+  m.physical = [local, rings](int c, const tmesh::Vec3& abc) {
+    const auto [r, x] = local(c, abc);
+    const auto p = (*rings)[static_cast<std::size_t>(r)].locate->physical(x);
+    if (!p) throw core::NumericalError("tmesh: cube " + std::to_string(c) + " point outside the volume map");
+    return *p;
+  };
+  return m;
+}
+
+}  // namespace
+
+PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& params) {
+  const core::Json j = core::read_stage_file(in, "volts-polycube", 2);
+  PolycubeInput r;
+  if (j.contains("kind") && !j["kind"].is_string()) throw core::InvalidInputError(in + ": polycube kind must be a string");
+  const std::string kind = j.value("kind", std::string("cube"));
+  r.kind = kind;
+  r.surface = core::require(j, "surface", in);
+  if (kind == "torus" || kind == "tori") {
+    std::vector<Ring> rings;
+    {
+      core::LogSection s("volume map");
+      if (kind == "torus") {
+        rings.push_back(read_ring(in, core::require(j, "polycube", in), core::require(j, "volume_map", in)));
+      } else {
+        const core::Json& list = core::require(j, "rings", in);
+        if (!list.is_array() || list.empty()) throw core::InvalidInputError(in + ": rings must be a non-empty list");
+        for (const auto& ring : list) rings.push_back(read_ring(in, core::require(ring, "polycube", in), core::require(ring, "volume_map", in)));
+      }
+    }
+    r.maps = ring_maps(std::move(rings));
+    return r;
+  }
+  if (kind == "difference") {
+    // A cube minus a through hole: the blocks around the hole (pillowed under the outer
+    // faces and the walls alike), every point through the volume map.
+    const polycube::DifferenceMap m = polycube::difference_from_json(core::require(j, "polycube", in), in);
+    std::shared_ptr<volmap::Locator> locate;
+    {
+      core::LogSection s("volume map");
+      const volmap::VolumeMap vm = volmap::from_json(core::require(j, "volume_map", in), in);
+      if (vm.flipped_tets > 0)
+        throw core::NumericalError(in + ": the volume map has " + std::to_string(vm.flipped_tets) +
+                                   " flipped tets, so the spline would fold (see polycube_tets_mapped.vtu): rerun polycube with a "
+                                   "smaller polycube.tet_max_volume_rel, or set `route: tet`");
+      if (vm.surface_vertices != m.solid_vertices)
+        throw core::InvalidInputError(in + ": the volume map has " + std::to_string(vm.surface_vertices) + " surface vertices, the polycube " +
+                                      std::to_string(m.solid_vertices) + " solid vertices");
+      locate = std::make_shared<volmap::Locator>(vm);
+    }
+    tmesh::PolycubeMaps& maps = r.maps;
+    maps.blocks = {tmesh::difference_blocks(m.axis, m.hole_lo, m.hole_hi, 1 << params.level, params.pillow_layers)};
+    maps.physical = [locate](int, const tmesh::Vec3& abc) {
+      const auto p = locate->physical(abc);
+      if (!p) throw core::NumericalError("tmesh: a point of the cube minus the hole lies outside the volume map");
+      return *p;
+    };
+    maps.polycube = [](int, const tmesh::Vec3& abc) { return abc; };
+    return r;
+  }
+  if (kind != "cube") throw core::InvalidInputError(in + ": unknown polycube kind '" + kind + "'");
+  pipeline::check_integer_members(in, j);
+  const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
+  const classify::Classification c = classify::from_json(core::require(j, "classification", in), in);
+  const polycube::Polycube p = polycube::from_json(core::require(j, "polycube", in), in);
+  pipeline::check_classification(in, mesh, c);
+  pipeline::check_polycube(in, mesh, c, p);
+  std::shared_ptr<polycube::VolumeMap> map;
+  {
+    core::LogSection s("volume map");
+    map = std::make_shared<polycube::VolumeMap>(mesh, c, p);
+  }
+  tmesh::PolycubeMaps& maps = r.maps;
+  maps.boundary = {{1, 1, 1, 1, 1, 1}};
+  maps.physical = [map](int, const tmesh::Vec3& abc) { return (*map)(abc); };
+  maps.polycube = [](int, const tmesh::Vec3& abc) { return abc; };
+  return r;
+}
+
+}  // namespace volts::pipeline
