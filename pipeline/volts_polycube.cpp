@@ -2,6 +2,7 @@
 // maps the surface onto it; writes polycube.stage.json, polycube.vtp and polycube_mapped.vtp
 // (tori, two tori and differences also the volume map's tets: polycube_tets.vtu, polycube_tets_mapped.vtu).
 #include <algorithm>
+#include <functional>
 
 #include "core/log.h"
 #include "polycube/difference.h"
@@ -16,8 +17,18 @@ using namespace volts;
 
 namespace {
 
-// A torus (Liu et al. §4.2, Fig. 5(b)): patch maps on the ring embedding, then the harmonic volume
-// map of the tet mesh onto it, untangled (§4.3).
+// Warnings for a map with flipped surface triangles or tets left flipped by untangling (tmesh
+// refuses such a volume map), under `what`.
+void warn_if_flipped(const std::string& what, int flipped_surface_triangles, const volmap::VolumeMap& vm) {
+  if (flipped_surface_triangles > 0)
+    core::log_warning(what + std::to_string(flipped_surface_triangles) + " surface triangles are flipped by the map");
+  if (vm.flipped_tets > 0)
+    core::log_warning(what + std::to_string(vm.flipped_tets) + " tets stay flipped after untangling (it stopped: " + vm.untangle_stop +
+                      " after " + std::to_string(vm.untangle_sweeps) + " sweeps; see polycube_tets_mapped.vtu); a smaller "
+                      "polycube.tet_max_volume_rel can help when the surface map is good (max_angle_distortion_deg), else "
+                      "the decomposition cannot be mapped without folds: set `route: tet`");
+}
+
 // The surface and volume map of one torus (its layout triangles, fills included, are its closed
 // surface), logged under `what`.
 void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const std::string& what, polycube::TorusSurfaceMap& m,
@@ -28,17 +39,25 @@ void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const
     pp.weights = ctx.config.polycube.weights;
     m = polycube::map_torus_surface(d, pp);
   }
-  if (m.flipped_surface_triangles > 0)
-    core::log_warning(what + std::to_string(m.flipped_surface_triangles) + " surface triangles are flipped by the map");
   {
     core::LogSection s(what + "volume map");
     vm = polycube::torus_volume_map(d, m, ctx.config.polycube);
   }
-  if (vm.flipped_tets > 0)
-    core::log_warning(what + std::to_string(vm.flipped_tets) + " tets stay flipped after untangling (it stopped: " + vm.untangle_stop +
-                      " after " + std::to_string(vm.untangle_sweeps) + " sweeps; see polycube_tets_mapped.vtu); a smaller "
-                      "polycube.tet_max_volume_rel can help when the surface map is good (max_angle_distortion_deg), else "
-                      "the decomposition cannot be mapped without folds: set `route: tet`");
+  warn_if_flipped(what, m.flipped_surface_triangles, vm);
+}
+
+// The stage file of a polycube with one volume map, its surface views (`surface_view(path,
+// mapped)`) and the tets in physical and polycube space.
+void write_with_volume_map(pipeline::StageContext& ctx, const core::Json& j, const std::string& kind, const core::Json& polycube,
+                           const volmap::VolumeMap& vm, const std::function<void(const std::string&, bool)>& surface_view) {
+  core::LogSection s("write");
+  core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
+                         {{"kind", kind}, {"surface", j["surface"]}, {"classification", j["classification"]},
+                          {"decomposition", j["decomposition"]}, {"polycube", polycube}, {"volume_map", volmap::to_json(vm)}});
+  surface_view(ctx.path("polycube.vtp"), false);
+  surface_view(ctx.path("polycube_mapped.vtp"), true);
+  volmap::write_vtu(ctx.path("polycube_tets.vtu"), vm);
+  volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), vm);
 }
 
 // A torus (Liu et al. §4.2, Fig. 5(b)): patch maps on the ring embedding, then the harmonic volume
@@ -47,16 +66,8 @@ core::Json torus(pipeline::StageContext& ctx, const core::Json& j, const split::
   polycube::TorusSurfaceMap m;
   volmap::VolumeMap vm;
   map_torus(ctx, d, "", m, vm);
-  {
-    core::LogSection s("write");
-    core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
-                           {{"kind", "torus"}, {"surface", j["surface"]}, {"classification", j["classification"]},
-                            {"decomposition", j["decomposition"]}, {"polycube", polycube::to_json(m)}, {"volume_map", volmap::to_json(vm)}});
-    polycube::write_torus_vtp(ctx.path("polycube.vtp"), d, m, false);
-    polycube::write_torus_vtp(ctx.path("polycube_mapped.vtp"), d, m, true);
-    volmap::write_vtu(ctx.path("polycube_tets.vtu"), vm);
-    volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), vm);
-  }
+  write_with_volume_map(ctx, j, "torus", polycube::to_json(m), vm,
+                        [&](const std::string& path, bool mapped) { polycube::write_torus_vtp(path, d, m, mapped); });
   core::Json r = volmap::report_figures(vm);
   r["cubes"] = d.components.size();
   r["tori"] = 1;
@@ -117,27 +128,14 @@ core::Json difference(pipeline::StageContext& ctx, const core::Json& j, const sp
     pp.weights = ctx.config.polycube.weights;
     m = polycube::map_difference_surface(d, pp);
   }
-  if (m.flipped_surface_triangles > 0)
-    core::log_warning(std::to_string(m.flipped_surface_triangles) + " surface triangles are flipped by the map");
   volmap::VolumeMap vm;
   {
     core::LogSection s("volume map");
     vm = polycube::difference_volume_map(d, m, ctx.config.polycube);
   }
-  if (vm.flipped_tets > 0)
-    core::log_warning(std::to_string(vm.flipped_tets) + " tets stay flipped after untangling (it stopped: " + vm.untangle_stop + " after " +
-                      std::to_string(vm.untangle_sweeps) + " sweeps; see polycube_tets_mapped.vtu); a smaller "
-                      "polycube.tet_max_volume_rel can help, else set `route: tet`");
-  {
-    core::LogSection s("write");
-    core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
-                           {{"kind", "difference"}, {"surface", j["surface"]}, {"classification", j["classification"]},
-                            {"decomposition", j["decomposition"]}, {"polycube", polycube::to_json(m)}, {"volume_map", volmap::to_json(vm)}});
-    polycube::write_difference_vtp(ctx.path("polycube.vtp"), d, m, false);
-    polycube::write_difference_vtp(ctx.path("polycube_mapped.vtp"), d, m, true);
-    volmap::write_vtu(ctx.path("polycube_tets.vtu"), vm);
-    volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), vm);
-  }
+  warn_if_flipped("", m.flipped_surface_triangles, vm);
+  write_with_volume_map(ctx, j, "difference", polycube::to_json(m), vm,
+                        [&](const std::string& path, bool mapped) { polycube::write_difference_vtp(path, d, m, mapped); });
   core::Json r = volmap::report_figures(vm);
   r["cubes"] = 1;
   r["tori"] = 0;

@@ -2,8 +2,11 @@
 // that names the file; a failing writer leaves nothing behind.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -111,4 +114,27 @@ TEST(Report, StagesAccumulate) {
   const auto r = core::read_report(d.path.string());
   EXPECT_EQ(r["stages"]["classify"]["corners"].get<int>(), 9);
   EXPECT_EQ(r["stages"]["extract"]["bezier_elements"].get<int>(), 512);
+}
+
+// Integers read from JSON are checked (core/stage_file.h): a number that is not a whole number in
+// the type's range is a json type_error, not undefined behaviour (fuzz_stage_polycube: 4.7e126 as
+// a triangle index).
+TEST(StageFile, IntegerConversionsAreChecked) {
+  using core::Json;
+  EXPECT_EQ(Json(3.0).get<int>(), 3);
+  EXPECT_EQ(Json(-7).get<int>(), -7);
+  EXPECT_EQ(Json(4294967295u).get<unsigned>(), 4294967295u);
+  EXPECT_EQ(Json::parse("[1, 2, 3]").get<std::vector<int>>(), (std::vector<int>{1, 2, 3}));
+  EXPECT_THROW((void)Json(4.72222e126).get<int>(), Json::exception);
+  EXPECT_THROW((void)Json(2.5).get<int>(), Json::exception);
+  EXPECT_THROW((void)Json(std::nan("")).get<int>(), Json::exception);
+  EXPECT_THROW((void)Json(2147483648.0).get<int>(), Json::exception);
+  EXPECT_THROW((void)Json(2147483648LL).get<int>(), Json::exception);
+  EXPECT_THROW((void)Json(-1).get<unsigned>(), Json::exception);
+  EXPECT_THROW((void)Json(9.3e18).get<long long>(), Json::exception);
+  EXPECT_THROW((void)Json::parse("[1, 2.5e300]").get<std::vector<int>>(), Json::exception);
+  using Pairs = std::vector<std::array<int, 2>>;
+  EXPECT_THROW((void)Json::parse("[[0, 1], [2, 1e20]]").get<Pairs>(), Json::exception);
+  EXPECT_THROW((void)Json("7").get<int>(), Json::exception);
+  EXPECT_EQ(Json(-2147483648.0).get<int>(), -2147483647 - 1);
 }
