@@ -1,6 +1,7 @@
 #include "polycube_input.h"
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -34,10 +35,16 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
                                " flipped tets, so the spline would fold (see polycube_tets_mapped.vtu): rerun polycube with a "
                                "smaller polycube.tet_max_volume_rel, or set `route: tet`");
   // Points of the round ring outside the surface's chords by up to the recorded gap snap onto it.
-  const double gap = core::require(pc, "boundary_gap", in).get<double>();
-  Eigen::Vector3d lo = vm.parameter.at(0), hi = lo;
+  const core::Json& gap_json = core::require(pc, "boundary_gap", in);
+  const double gap = gap_json.is_number() ? gap_json.get<double>() : -1.0;
+  if (!(gap >= 0 && std::isfinite(gap))) throw core::InvalidInputError(in + ": polycube.boundary_gap must be a number >= 0");
+  if (vm.parameter.empty() || vm.tets.empty()) throw core::InvalidInputError(in + ": the volume map has no points or no tets");
+  Eigen::Vector3d lo = vm.parameter.front(), hi = lo;
   for (const auto& p : vm.parameter) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  r.locate = std::make_unique<volmap::Locator>(vm, std::max(1e-6, 2 * gap / (hi - lo).norm()));
+  const double snap = std::max(1e-6, 2 * gap / (hi - lo).norm());
+  if (!(snap < 0.1))
+    throw core::InvalidInputError(in + ": polycube.boundary_gap " + std::to_string(gap) + " is not small against the volume map's extent");
+  r.locate = std::make_unique<volmap::Locator>(vm, snap);
   polycube::Embedding& e = r.embedding;
   try {
     const auto cells = core::require(pc, "cells", in).get<std::vector<double>>();
@@ -131,6 +138,7 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
         throw core::NumericalError(in + ": the volume map has " + std::to_string(vm.flipped_tets) +
                                    " flipped tets, so the spline would fold (see polycube_tets_mapped.vtu): rerun polycube with a "
                                    "smaller polycube.tet_max_volume_rel, or set `route: tet`");
+      if (vm.parameter.empty() || vm.tets.empty()) throw core::InvalidInputError(in + ": the volume map has no points or no tets");
       if (vm.surface_vertices != m.solid_vertices)
         throw core::InvalidInputError(in + ": the volume map has " + std::to_string(vm.surface_vertices) + " surface vertices, the polycube " +
                                       std::to_string(m.solid_vertices) + " solid vertices");

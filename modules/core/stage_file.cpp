@@ -36,7 +36,12 @@ Json read_stage_file(const std::string& path, const std::string& format, int max
   if (got != format) throw InvalidInputError(path + ": is a " + got + " file, expected " + format);
   if (!j.contains("version") || !j["version"].is_number_integer())
     throw InvalidInputError(path + ": " + format + " file has no integer \"version\"");
-  const int v = j["version"].get<int>();
+  int v = 0;
+  try {
+    v = j["version"].get<int>();
+  } catch (const Json::exception&) {  // an integer beyond int (core::Json's checked conversion)
+    throw InvalidInputError(path + ": invalid " + format + " version " + j["version"].dump().substr(0, 40));
+  }
   if (v > max_version)
     throw InvalidInputError(path + ": " + format + " version " + std::to_string(v) +
                             " is newer than this volts reads (up to " + std::to_string(max_version) +

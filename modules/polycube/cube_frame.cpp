@@ -27,12 +27,14 @@ std::vector<int> cube_codes(const std::vector<std::set<int>>& adj) {
       } else if (depth[static_cast<std::size_t>(v)] > 1) {
         int acc = 0;
         for (int w : adj[static_cast<std::size_t>(v)])
-          if (depth[static_cast<std::size_t>(w)] == depth[static_cast<std::size_t>(v)] - 1) acc |= code[static_cast<std::size_t>(w)];
+          if (w >= 0 && w < n && depth[static_cast<std::size_t>(w)] == depth[static_cast<std::size_t>(v)] - 1)
+            acc |= code[static_cast<std::size_t>(w)];
         code[static_cast<std::size_t>(v)] = acc;
       }
     }
     const std::set<int> distinct(code.begin(), code.end());
     ok = distinct.size() == 8 && !distinct.count(-1);
+    for (const auto& a : adj) ok = ok && a.size() == 3;  // a cube's 12 edges, 3 at each corner
   }
   for (int v = 0; v < n && ok; ++v)
     for (int w : adj[static_cast<std::size_t>(v)]) {

@@ -100,6 +100,13 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
   const std::vector<int> code = detail::cube_codes(adjacency);
   std::map<int, Vec3> corner_at;
   for (const auto& [v, i] : corner_index) corner_at[v] = {double(code[i] & 1), double((code[i] >> 1) & 1), double((code[i] >> 2) & 1)};
+  auto corner_point = [&](int v, int patch) {
+    const auto it = corner_at.find(v);
+    if (it == corner_at.end())
+      throw core::TopologyError("polycube: patch " + std::to_string(patch) + " has a corner (vertex " + std::to_string(v) +
+                                ") that is neither a corner of the cube nor of the hole");
+    return it->second;
+  };
 
   // The holed faces: the cube faces that hold a fill; the hole runs between them.
   std::array<int, 2> holed{-1, -1};
@@ -115,7 +122,7 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
   std::array<Vec3, 2> side;
   for (int i = 0; i < 2; ++i) {
     std::array<Vec3, 4> x;
-    for (int k = 0; k < 4; ++k) x[k] = corner_at.at(L.patches[static_cast<std::size_t>(holed[i])].corners[k]);
+    for (int k = 0; k < 4; ++k) x[k] = corner_point(L.patches[static_cast<std::size_t>(holed[i])].corners[k], holed[i]);
     const int f = face_of(x);
     if (f < 0) throw core::TopologyError("polycube: patch " + std::to_string(holed[i]) + " does not lie on one face of the cube");
     if (m.axis >= 0 && m.axis != f / 2)
@@ -134,7 +141,8 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
       rim += chain_length(L, L.patches[static_cast<std::size_t>(fills[i])].sides[k]);
       outer += chain_length(L, L.patches[static_cast<std::size_t>(holed[i])].sides[k]);
     }
-  const double width = std::clamp(outer > 0 ? rim / outer : 0.5, 0.1, 0.8);
+  // At most 0.5: the T-mesh's pillow (one element of 1/10 at the default level) needs room beside it.
+  const double width = std::clamp(outer > 0 ? rim / outer : 0.5, 0.1, 0.5);
   for (int a = 0; a < 3; ++a) {
     m.hole_lo[a] = a == m.axis ? 0.0 : 0.5 - width / 2;
     m.hole_hi[a] = a == m.axis ? 1.0 : 0.5 + width / 2;
@@ -146,19 +154,20 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
     const auto& R = L.patches[static_cast<std::size_t>(fills[i])].corners;
     double best = std::numeric_limits<double>::infinity();
     std::array<int, 4> match{};
-    for (int shift = 0; shift < 4; ++shift)
-      for (int dir : {1, -1}) {
-        double cost = 0;
-        std::array<int, 4> s{};
-        for (int k = 0; k < 4; ++k) {
-          s[k] = ((shift + dir * k) % 4 + 4) % 4;
-          const double e = dist(L.points[R[k]], L.points[O[s[k]]]);
-          cost += e * e;
-        }
-        if (cost < best) best = cost, match = s;
+    // The fill and the holed face hold the fill triangles alike, so their corners turn the same
+    // way: only the cyclic shift is free.
+    for (int shift = 0; shift < 4; ++shift) {
+      double cost = 0;
+      std::array<int, 4> s{};
+      for (int k = 0; k < 4; ++k) {
+        s[k] = (shift + k) % 4;
+        const double e = dist(L.points[R[k]], L.points[O[s[k]]]);
+        cost += e * e;
       }
+      if (cost < best) best = cost, match = s;
+    }
     for (int k = 0; k < 4; ++k) {
-      Vec3 p = corner_at.at(O[match[k]]);
+      Vec3 p = corner_point(O[match[k]], holed[i]);
       for (int a = 0; a < 3; ++a)
         if (a != m.axis) p[a] = p[a] > 0.5 ? m.hole_hi[a] : m.hole_lo[a];
       if (!corner_at.emplace(R[k], p).second)
@@ -170,7 +179,9 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<Vec3> pts(static_cast<std::size_t>(m.solid_vertices), Vec3{nan, nan, nan});
   auto put = [&](int v, const Vec3& y) {
-    Vec3& slot = pts.at(static_cast<std::size_t>(v));
+    if (v < 0 || v >= m.solid_vertices)
+      throw core::TopologyError("polycube: vertex " + std::to_string(v) + " of a mapped patch lies only on a fill");
+    Vec3& slot = pts[static_cast<std::size_t>(v)];
     if (!std::isnan(slot[0])) m.max_mismatch = std::max(m.max_mismatch, dist(slot, y));
     slot = y;
   };
@@ -181,13 +192,7 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
   for (int p : placed) {
     const auto& P = L.patches[static_cast<std::size_t>(p)];
     std::array<Vec3, 4> X;
-    for (int k = 0; k < 4; ++k) {
-      const auto it = corner_at.find(P.corners[k]);
-      if (it == corner_at.end())
-        throw core::TopologyError("polycube: patch " + std::to_string(p) + " has a corner (vertex " + std::to_string(P.corners[k]) +
-                                  ") that is neither a corner of the cube nor of the hole");
-      X[k] = it->second;
-    }
+    for (int k = 0; k < 4; ++k) X[k] = corner_point(P.corners[k], p);
     if (face_of(X) < 0)
       throw core::TopologyError("polycube: the corners of patch " + std::to_string(p) +
                                 " are not those of one face of the cube or of the hole (the hole's walls do not join the rims straight through)");
@@ -210,7 +215,7 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
     std::map<int, std::array<double, 2>> fixed;
     for (int t : tris)
       for (int v : L.triangles[static_cast<std::size_t>(t)]) {
-        const Vec3& x = pts.at(static_cast<std::size_t>(v));
+        const Vec3& x = pts[static_cast<std::size_t>(v)];  // v < solid_vertices: a triangle that is not a fill
         if (!std::isnan(x[0])) fixed[v] = {x[a1], x[a2]};
       }
     const auto at = harmonic_positions(L, tris, fixed, params, "holed patch " + std::to_string(holed[i]));

@@ -220,9 +220,11 @@ Decomposition from_json(const core::Json& j, const std::string& file) {
     for (const auto& pj : core::require(lj, "patches", file)) {
       Patch p;
       p.triangles = core::require(pj, "triangles", file).get<std::vector<int>>();
+      if (p.triangles.empty()) throw core::InvalidInputError(file + ": a patch has no triangles");
       for (int t : p.triangles)
         if (t < 0 || t >= nt) throw core::InvalidInputError(file + ": a patch refers to triangle " + std::to_string(t) + " of " + std::to_string(nt));
       read_sides(pj, p, file);
+      for (int v : p.corners) check_vertex(v);
       for (const auto& s : p.sides)
         for (int v : s) check_vertex(v);
       d.layout.patches.push_back(std::move(p));
@@ -232,6 +234,9 @@ Decomposition from_json(const core::Json& j, const std::string& file) {
       read_sides(fj, f, file);
       f.loop = core::require(fj, "loop", file).get<std::vector<int>>();
       for (int v : f.loop) check_vertex(v);
+      for (int v : f.corners) check_vertex(v);
+      for (const auto& s : f.sides)
+        for (int v : s) check_vertex(v);
       d.layout.internal_faces.push_back(std::move(f));
     }
     const int npatch = static_cast<int>(d.layout.patches.size()), nint = static_cast<int>(d.layout.internal_faces.size());
@@ -248,6 +253,9 @@ Decomposition from_json(const core::Json& j, const std::string& file) {
         f.internal_face = core::require(fj, "internal_face", file).get<int>();
         f.corners = core::require(fj, "corners", file).get<std::array<int, 4>>();
         if (f.internal_face >= nint) throw core::InvalidInputError(file + ": a component face refers to internal face " + std::to_string(f.internal_face));
+        for (int p : f.patches)
+          if (p < 0 || p >= npatch) throw core::InvalidInputError(file + ": a component face refers to patch " + std::to_string(p) + " of " + std::to_string(npatch));
+        for (int v : f.corners) check_vertex(v);
         c.faces.push_back(std::move(f));
       }
       d.components.push_back(std::move(c));

@@ -157,7 +157,11 @@ VolumeMap from_json(const core::Json& j, const std::string& file) {
   const auto get_int = [&](const char* key) {
     const core::Json& v = core::require(j, key, file);
     if (!v.is_number_integer()) throw core::InvalidInputError(file + ": " + key + " must be an integer");
-    return v.get<int>();
+    try {
+      return v.get<int>();
+    } catch (const core::Json::exception&) {  // beyond int
+      throw core::InvalidInputError(file + ": " + key + " is out of range");
+    }
   };
   const auto get_double = [&](const char* key) {
     const core::Json& v = core::require(j, key, file);
