@@ -276,6 +276,15 @@ std::vector<BadInput> catalogue() {
                  "tmesh block corner outside its cube's parameters"),
       stage_json("TmeshHugeLevel", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["level"] = 40; },
                  "tmesh level 40 or degree 1 out of range"),
+      // A difference polycube (the fuzz seed: 8 columns around a square hole) whose hole pokes out of the cube.
+      stage("PolycubeDifferenceHoleOutsideCube", "polycube.stage.json", "volts-tmesh",
+            [] {
+              core::Json j = core::Json::parse(core::read_text_file(std::string(VOLTS_SOURCE_DIR) +
+                                                                    "/fuzz/corpus/stage_polycube/hole_columns.polycube.stage.json"));
+              j["polycube"]["hole_lo"][0] = -0.2;
+              return j.dump();
+            },
+            "polycube.hole_lo/hole_hi is not a box through the unit cube along its axis"),
       {"ResumeWithoutEarlierStage",
        [](const fs::path& w) { test::write_text(w / "run.yaml", "input: {generate: box}\n"); },
        "{BIN}/volts run {W}/run.yaml --workdir {W} --from tmesh", 4,
