@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <vector>
 
 #include "core/errors.h"
 #include "tmesh/pillow.h"
@@ -41,6 +42,24 @@ double block_volume(const std::array<Vec3, 8>& c, double* min_det) {
   return v;
 }
 
+// Every block has positive Jacobian; pillowed, a slab has exactly one surface face and a core
+// block none. Returns the blocks' total volume.
+double check_blocks(const std::vector<tmesh::Block>& blocks, bool pillowed) {
+  double total = 0;
+  for (const auto& b : blocks) {
+    double min_det = 0;
+    total += block_volume(b.corners, &min_det);
+    EXPECT_GT(min_det, 0);
+    int on = 0;
+    for (const int x : b.boundary) on += x;
+    if (pillowed) {
+      EXPECT_EQ(on, b.pillow ? 1 : 0);
+    }
+    for (const int n : b.elements) EXPECT_GE(n, 1);
+  }
+  return total;
+}
+
 // The cube's cross section (b, c) squared as a complex number: conformal except at the edge
 // b = c = 0, whose 90° angle it flattens to 180° — what the polycube's volume map does at a cube
 // edge on a smooth part of the surface (the torus's longitudinal cube edges).
@@ -73,16 +92,7 @@ TEST(Pillow, BlocksTileTheCubeWithPositiveJacobianAndOneSurfaceFaceEach) {
       int faces = 0;
       for (const int b : boundary) faces += b;
       ASSERT_EQ(static_cast<int>(blocks.size()), 1 + faces);
-      double total = 0;
-      for (const auto& b : blocks) {
-        double min_det = 0;
-        total += block_volume(b.corners, &min_det);
-        EXPECT_GT(min_det, 0);
-        int on = 0;
-        for (const int x : b.boundary) on += x;
-        EXPECT_EQ(on, b.pillow ? 1 : 0);
-      }
-      EXPECT_NEAR(total, 1.0, 1e-9);
+      EXPECT_NEAR(check_blocks(blocks, true), 1.0, 1e-9);
     }
 }
 
@@ -213,18 +223,7 @@ TEST(Pillow, DifferenceBlocksTileTheCubeMinusTheHoleConformingly) {
       lo[static_cast<std::size_t>(axis)] = 0, hi[static_cast<std::size_t>(axis)] = 1;
       const auto blocks = tmesh::difference_blocks(axis, lo, hi, 16, layers);
       EXPECT_EQ(blocks.size(), layers ? 40u : 8u);
-      double volume = 0;
-      for (const auto& b : blocks) {
-        double min_det = 0;
-        volume += block_volume(b.corners, &min_det);
-        EXPECT_GT(min_det, 0);
-        int on = 0;
-        for (const int x : b.boundary) on += x;
-        if (layers) {
-          EXPECT_EQ(on, b.pillow ? 1 : 0);
-        }
-        for (const int n : b.elements) EXPECT_GE(n, 1);
-      }
+      const double volume = check_blocks(blocks, layers > 0);
       const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
       const double wx = hi[a1] - lo[a1], wy = hi[a2] - lo[a2];
       EXPECT_NEAR(volume, 1 - wx * wy, 1e-9);
