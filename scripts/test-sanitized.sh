@@ -10,4 +10,7 @@ export VOLTS_BUILD_DIR=${VOLTS_BUILD_DIR:-build-asan}
 bash scripts/build.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVOLTS_SANITIZE=ON -DVOLTS_BUILD_BENCH=OFF
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:strict_string_checks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+# VTK 9.1 leaks the array it was filling when reading a .vtu array fails (upstream; the .vtu
+# regression inputs of tests/hardening do that on purpose): the same suppressions as fuzz_vtu.
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/lsan-vtk.supp:print_suppressions=0}
 ctest --test-dir "$VOLTS_BUILD_DIR" --output-on-failure -j"$(nproc)" --timeout 3000 "$@"
