@@ -392,6 +392,7 @@ void untangle(VolumeMap& vm, const Params& params) {
     return b;
   };
   // Gauss-Seidel sweeps of single-vertex moves over the free vertices near bad tets.
+  const int budget_end = vm.untangle_sweeps + params.untangle_max_sweeps;  // per call
   const auto sweeps = [&] {
     std::vector<int> bad = bad_tets();
     int stalled = 0;
@@ -400,7 +401,7 @@ void untangle(VolumeMap& vm, const Params& params) {
     for (int t : bad) worst = std::min(worst, volume6(vm.parameter, vm.tets[t]));
     if (bad.empty()) return;
     vm.untangle_stop = "done";
-    while (vm.untangle_sweeps < params.untangle_max_sweeps && !bad.empty()) {
+    while (vm.untangle_sweeps < budget_end && !bad.empty()) {
       std::set<int> active;
       for (int t : bad)
         for (int v : vm.tets[t])
@@ -443,6 +444,113 @@ void untangle(VolumeMap& vm, const Params& params) {
 }
 
 }  // namespace
+
+// Why (measured on the washer): an interior edge's link alternated between interior vertices and
+// vertices of one planar polycube face, so the edge would have to cross that face for its link to
+// wind around it; with the surface fixed the LPs end with one end on the other (6 x volume exactly
+// 0, not negative), and no joint move helps. Collapsing keeps every other tet as it is in
+// parameter space; the link condition keeps the mesh a manifold tetrahedralization.
+int collapse_parameter_zero_edges(VolumeMap& vm) {
+  const int n = vm.surface_vertices;
+  double diag = 0;
+  {
+    Vec lo = vm.parameter[0], hi = vm.parameter[0];
+    for (const Vec& q : vm.parameter) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    diag = (hi - lo).norm();
+  }
+  double mean6 = 0;
+  for (const Tet& t : vm.tets) mean6 += volume6(vm.physical, t);
+  mean6 /= static_cast<double>(vm.tets.size());
+  int collapsed = 0;
+  for (bool again = true; again;) {
+    again = false;
+    std::vector<std::vector<int>> of(vm.physical.size());
+    for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
+      for (int v : vm.tets[t]) of[v].push_back(t);
+    for (const Tet& bad : vm.tets) {
+      if (volume6(vm.parameter, bad) > 0) continue;
+      for (int i = 0; i < 4 && !again; ++i)
+        for (int j = i + 1; j < 4 && !again; ++j) {
+          int keep = bad[i], drop = bad[j];
+          if (keep >= n && drop < n) std::swap(keep, drop);
+          if (drop < n || (vm.parameter[keep] - vm.parameter[drop]).norm() > 1e-12 * diag) continue;
+          // Link condition: vertices and edges linked to both ends are exactly the edge's link.
+          std::set<int> star, lk_v[2], lk_e_edge;
+          std::set<std::pair<int, int>> lk_e[2], lk_edge_e;
+          const int ends[2] = {keep, drop};
+          for (int k = 0; k < 2; ++k)
+            for (int t : of[ends[k]]) {
+              std::vector<int> opp;
+              for (int v : vm.tets[t])
+                if (v != ends[k]) opp.push_back(v);
+              const bool both = std::find(vm.tets[t].begin(), vm.tets[t].end(), ends[1 - k]) != vm.tets[t].end();
+              if (both) star.insert(t);
+              for (int a = 0; a < 3; ++a) {
+                lk_v[k].insert(opp[a]);
+                lk_e[k].insert({std::min(opp[a], opp[(a + 1) % 3]), std::max(opp[a], opp[(a + 1) % 3])});
+              }
+            }
+          std::set<int> edge_v;
+          std::set<std::pair<int, int>> edge_e;
+          for (int t : star) {
+            std::vector<int> opp;
+            for (int v : vm.tets[t])
+              if (v != keep && v != drop) opp.push_back(v);
+            edge_v.insert(opp.begin(), opp.end());
+            edge_e.insert({std::min(opp[0], opp[1]), std::max(opp[0], opp[1])});
+          }
+          std::set<int> common_v;
+          std::set<std::pair<int, int>> common_e;
+          std::set_intersection(lk_v[0].begin(), lk_v[0].end(), lk_v[1].begin(), lk_v[1].end(), std::inserter(common_v, common_v.end()));
+          std::set_intersection(lk_e[0].begin(), lk_e[0].end(), lk_e[1].begin(), lk_e[1].end(), std::inserter(common_e, common_e.end()));
+          common_v.erase(keep), common_v.erase(drop);
+          if (common_v != edge_v || common_e != edge_e) continue;
+          // The merged vertex's physical position: the best of the two ends and their midpoint.
+          std::vector<int> changed;
+          for (int k = 0; k < 2; ++k)
+            for (int t : of[ends[k]])
+              if (!star.count(t)) changed.push_back(t);
+          std::vector<Vec> choices{vm.physical[keep]};
+          if (keep >= n) choices.insert(choices.end(), {vm.physical[drop], 0.5 * (vm.physical[keep] + vm.physical[drop])});
+          double best = -HUGE_VAL;
+          Vec best_pos = vm.physical[keep];
+          const Vec old_keep = vm.physical[keep];
+          for (const Vec& c : choices) {
+            vm.physical[keep] = c;
+            double w = HUGE_VAL;
+            for (int t : changed) {
+              Tet nt = vm.tets[t];
+              std::replace(nt.begin(), nt.end(), drop, keep);
+              w = std::min({w, volume6(vm.physical, nt) / mean6, volume6(vm.parameter, nt) > 0 ? HUGE_VAL : -1.0});
+            }
+            if (w > best) best = w, best_pos = c;
+          }
+          vm.physical[keep] = old_keep;
+          if (!(best > 1e-9)) continue;
+          // Collapse: drop the star, rename drop -> keep, move the last point into drop's slot.
+          vm.physical[keep] = best_pos;
+          std::vector<Tet> kept;
+          for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
+            if (!star.count(t)) kept.push_back(vm.tets[t]);
+          const int last = static_cast<int>(vm.physical.size()) - 1;
+          for (Tet& t : kept)
+            for (int& v : t) {
+              if (v == drop) v = keep;
+              else if (v == last) v = drop;
+            }
+          vm.physical[drop] = vm.physical[last];
+          vm.parameter[drop] = vm.parameter[last];
+          vm.physical.pop_back();
+          vm.parameter.pop_back();
+          vm.tets.swap(kept);
+          ++collapsed;
+          again = true;
+        }
+      if (again) break;
+    }
+  }
+  return collapsed;
+}
 
 double parameter_volume(const VolumeMap& map, int t) { return volume6(map.parameter, map.tets[t]) / 6; }
 
@@ -491,6 +599,8 @@ VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<st
   {
     core::LogSection s("untangle");
     untangle(vm, params);
+    if (params.untangle_max_sweeps > 0 && flipped() > 0 && (vm.collapsed_edges = collapse_parameter_zero_edges(vm)) > 0)
+      untangle(vm, params);  // lifts the tets around the collapsed edges above the target
   }
   vm.flipped_tets = flipped();
   double phys = 0;

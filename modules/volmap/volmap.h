@@ -47,6 +47,9 @@ struct VolumeMap {
   std::vector<std::array<int, 4>> tets;    ///< positively oriented in physical space
   int split_edges = 0;    ///< interior edges joining two surface vertices, split at their midpoint
   int split_faces = 0;    ///< interior faces with three surface vertices, split at their centroid
+  /// interior edges of length 0 in parameter space collapsed after untangling (their tets were flat
+  /// there); optional in stage files written before it existed
+  int collapsed_edges = 0;
   int flipped_tets_before_untangling = 0;  ///< harmonic map: tets with parameter volume <= 0
   int flipped_tets = 0;   ///< after untangling; 0 means the map is one-to-one onto the parameter domain
   int untangle_sweeps = 0;                 ///< sweeps the untangling took
@@ -72,7 +75,8 @@ struct VolumeMap {
 /// foldover-free energy of Garanzha et al. 2021 jointly (NLopt L-BFGS), then sweeps resume.
 /// Before mapping, interior edges and faces whose vertices are all on the surface are split: such a
 /// chord would have to lie on or outside the boundary of a polycube, so no map could keep its tets
-/// positive.
+/// positive. If tets are still flat or inverted after untangling, collapse_parameter_zero_edges()
+/// removes the flat ones it can and untangling runs once more.
 /// Does not throw when untangling fails: flipped_tets > 0 says so (the caller decides).
 /// Throws core::InvalidInputError if surface_parameter does not have one entry per surface vertex,
 /// has a non-finite entry, or maps the surface onto a region of volume <= 0 (mirrored), and if the
@@ -80,6 +84,15 @@ struct VolumeMap {
 /// what tetmesh::tetrahedralize throws.
 VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<std::array<double, 3>>& surface_parameter,
                               const Params& params);
+
+/// Collapses interior edges of length 0 (1e-12 x the domain diagonal) in parameter space that belong
+/// to tets of parameter volume <= 0 (untangling that parks one vertex on another), keeping a surface
+/// end where there is one (edges between two surface vertices are never collapsed). The edge's tets
+/// are removed; an edge is collapsed only if the link condition holds and every changed tet is
+/// positive in parameter space and, at the best of the two ends' positions and their midpoint, in
+/// physical space (6 x volume above 1e-9 x the mean). The dropped point's slot takes the last point
+/// (surface points keep their ids). Returns the number of edges collapsed.
+int collapse_parameter_zero_edges(VolumeMap& map);
 
 /// Point location in parameter space: a CGAL AABB tree over the bounding boxes of the mapped tets,
 /// then barycentric coordinates. Keeps its own copy of the map.

@@ -11,6 +11,8 @@
 #include "core/errors.h"
 #include "models/models.h"
 #include "polycube/embedding.h"
+#include "polycube/rings.h"
+#include "ring_map_check.h"
 #include "split/split.h"
 #include "volmap/volmap.h"
 
@@ -65,6 +67,7 @@ void check(const std::string& name, int cubes) {
     if (!locate.physical(polycube::cell_point(e, k, {u(rng), u(rng), u(rng)}))) ++missing;
   }
   EXPECT_EQ(missing, 0) << name;
+  test::expect_ring_map_one_to_one(d, e, vm, 3, cubes);
 }
 
 }  // namespace
@@ -107,4 +110,17 @@ TEST(Embedding, FacesOfSeveralPatchesAreMergedIntoOneQuadPatch) {
   const auto sm = polycube::map_torus_surface(d, {});
   EXPECT_EQ(sm.flipped_surface_triangles, 0);
   EXPECT_LT(sm.embedding.max_mismatch, 1e-12);
+}
+
+// The washer's default volume map: untangling parks one interior vertex on another (an edge whose
+// link alternates with vertices of the planar top face); collapsing that edge leaves no flat tet.
+TEST(Embedding, WasherVolumeMapIsOneToOne) {
+  const auto m = model("loopycuts_mechanical08_rem.obj");
+  const auto d = split::split(m, classify::classify(m, {}), {});
+  const auto sm = polycube::map_torus_surface(d, {});
+  ASSERT_EQ(sm.flipped_surface_triangles, 0);
+  const auto vm = polycube::torus_volume_map(d, sm, {});
+  std::printf("[ info ] washer: %zu tets, flipped %d before untangling, %d after, %d edges collapsed, min volume ratio %.3g\n",
+              vm.tets.size(), vm.flipped_tets_before_untangling, vm.flipped_tets, vm.collapsed_edges, vm.min_volume_ratio);
+  test::expect_ring_map_one_to_one(d, sm.embedding, vm, 5);
 }

@@ -5,8 +5,6 @@
 // solid). The disk is parameterized by both rings independently (not conforming, see rings.h).
 #include <gtest/gtest.h>
 
-#include <CGAL/Side_of_triangle_mesh.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,6 +15,7 @@
 #include "classify/classify.h"
 #include "core/errors.h"
 #include "polycube/rings.h"
+#include "ring_map_check.h"
 #include "split/split.h"
 #include "volmap/volmap.h"
 
@@ -82,38 +81,9 @@ void check_volume_maps(const std::string& name) {
   const Mapped& m = mapped(name);
   for (int i = 0; i < 2; ++i) {
     SCOPED_TRACE("ring " + std::to_string(i));
-    const split::Decomposition& rd = m.rings[i].decomposition;
-    const auto& e = m.surface[i].embedding;
     const volmap::VolumeMap vm = volume_map(m, i, name);
-    EXPECT_EQ(vm.flipped_tets, 0) << vm.flipped_tets_before_untangling << " before untangling";
-    EXPECT_GT(vm.min_volume_ratio, 0);
     EXPECT_EQ(vm.surface_vertices, static_cast<int>(m.rings[i].layout_vertex.size()));
-    // The domain is the round ring (radius 1 to 2, height 1: volume 3π, area 12π) up to its chords.
-    EXPECT_LE(vm.parameter_volume, 3 * M_PI);
-    EXPECT_GE(vm.parameter_volume, 3 * M_PI - 12 * M_PI * e.boundary_gap);
-
-    Eigen::Vector3d lo = vm.parameter.at(0), hi = lo;
-    for (const auto& p : vm.parameter) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    const volmap::Locator locate(vm, 2 * e.boundary_gap / (hi - lo).norm());
-    const surface::Mesh solid = split::layout_mesh(rd.layout, true);
-    CGAL::Side_of_triangle_mesh<surface::Mesh, surface::Kernel> inside(solid);
-    const double margin = std::max(0.01, 2 * e.boundary_gap);
-    std::mt19937 rng(11 + i);
-    std::uniform_real_distribution<double> u(0.0, 1.0), w(margin, 1 - margin);
-    int not_one = 0, outside = 0, missing = 0;
-    for (int k = 0; k < 2000; ++k) {
-      const auto x = polycube::cell_point(e, k % 4, {u(rng), w(rng), w(rng)});
-      not_one += locate.tets_containing(x, 1e-12).size() != 1;
-      const auto p = locate.physical(x);
-      if (!p) {
-        ++missing;
-        continue;
-      }
-      outside += inside(surface::Point((*p)[0], (*p)[1], (*p)[2])) == CGAL::ON_UNBOUNDED_SIDE;
-    }
-    EXPECT_EQ(not_one, 0);
-    EXPECT_EQ(missing, 0);
-    EXPECT_EQ(outside, 0);
+    test::expect_ring_map_one_to_one(m.rings[i].decomposition, m.surface[i].embedding, vm, 11 + i);
   }
 }
 

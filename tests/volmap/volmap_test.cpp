@@ -254,6 +254,90 @@ TEST(HarmonicVolumeMap, UniformWeightsAlsoUntangle) {
   EXPECT_EQ(m.flipped_tets, 0);
 }
 
+namespace {
+
+// A bipyramid over a hexagon (surface: ring 0..5 at z = 0, apexes 6 = (0,0,1) and 7 = (0,0,-1))
+// filled by the interior edge 8 = (0,0,0.3) - 9 = (0,0,-0.3): per hexagon side a tet from 6 to 8,
+// one around the edge 8-9 and one from 9 to 7. Parameter positions equal the physical ones.
+VolumeMap bipyramid() {
+  VolumeMap m;
+  m.surface_vertices = 8;
+  for (int i = 0; i < 6; ++i) m.physical.emplace_back(std::cos(i * kPi / 3), std::sin(i * kPi / 3), 0.0);
+  m.physical.emplace_back(0, 0, 1);
+  m.physical.emplace_back(0, 0, -1);
+  m.physical.emplace_back(0, 0, 0.3);
+  m.physical.emplace_back(0, 0, -0.3);
+  for (int i = 0; i < 6; ++i)
+    for (const std::array<int, 2> e : {std::array<int, 2>{6, 8}, {8, 9}, {9, 7}}) {
+      std::array<int, 4> t{e[0], e[1], i, (i + 1) % 6};
+      const auto& p = m.physical;
+      if (tetmesh::signed_volume6(p[t[0]], p[t[1]], p[t[2]], p[t[3]]) < 0) std::swap(t[2], t[3]);
+      m.tets.push_back(t);
+    }
+  m.parameter = m.physical;
+  return m;
+}
+
+double total_volume6(const std::vector<Eigen::Vector3d>& p, const VolumeMap& m, double* smallest) {
+  double sum = 0;
+  *smallest = HUGE_VAL;
+  for (const auto& t : m.tets) {
+    const double v = tetmesh::signed_volume6(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
+    sum += v;
+    *smallest = std::min(*smallest, v);
+  }
+  return sum;
+}
+
+}  // namespace
+
+// Untangling parked interior vertex 9 on 8 in parameter space: the six tets around the edge are
+// flat there. Collapsing the edge removes them and leaves a tetrahedralization of the same solid,
+// positive in both spaces.
+TEST(CollapseParameterZeroEdges, RemovesTheFlatTetsOfACoincidentInteriorEdge) {
+  VolumeMap m = bipyramid();
+  m.parameter[8] = m.parameter[9] = Eigen::Vector3d(0.1, 0.05, 0.0);
+  double smallest = 0;
+  const double phys = total_volume6(m.physical, m, &smallest), param = total_volume6(m.parameter, m, &smallest);
+  ASSERT_EQ(smallest, 0.0);
+  EXPECT_EQ(volmap::collapse_parameter_zero_edges(m), 1);
+  EXPECT_EQ(m.tets.size(), 12u);
+  ASSERT_EQ(m.physical.size(), 9u);
+  ASSERT_EQ(m.parameter.size(), 9u);
+  for (const auto& t : m.tets)
+    for (int v : t) ASSERT_LT(v, 9);
+  EXPECT_NEAR(total_volume6(m.physical, m, &smallest), phys, 1e-12);
+  EXPECT_GT(smallest, 0);
+  EXPECT_NEAR(total_volume6(m.parameter, m, &smallest), param, 1e-12);
+  EXPECT_GT(smallest, 0);
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(m.physical[i], bipyramid().physical[i]) << "surface points keep their ids";
+}
+
+// An interior vertex parked on a surface vertex merges into it; the surface point does not move.
+TEST(CollapseParameterZeroEdges, KeepsTheSurfaceEnd) {
+  VolumeMap m = bipyramid();
+  m.parameter[8] = m.parameter[6];
+  EXPECT_EQ(volmap::collapse_parameter_zero_edges(m), 1);
+  EXPECT_EQ(m.tets.size(), 12u);
+  EXPECT_EQ(m.physical[6], Eigen::Vector3d(0, 0, 1));
+  double smallest = 0;
+  total_volume6(m.physical, m, &smallest);
+  EXPECT_GT(smallest, 0);
+  total_volume6(m.parameter, m, &smallest);
+  EXPECT_GT(smallest, 0);
+}
+
+// Flat but not collapsed (the ends 1e-6 apart), or nothing flat: nothing changes.
+TEST(CollapseParameterZeroEdges, LeavesEdgesOfNonZeroLengthAlone) {
+  VolumeMap m = bipyramid();
+  EXPECT_EQ(volmap::collapse_parameter_zero_edges(m), 0);
+  m.parameter[8] = Eigen::Vector3d(0.1, 0.05, 0.0);
+  m.parameter[9] = Eigen::Vector3d(0.1, 0.05, 1e-6);  // inverted around the edge
+  EXPECT_EQ(volmap::collapse_parameter_zero_edges(m), 0);
+  EXPECT_EQ(m.tets.size(), 18u);
+  EXPECT_EQ(m.physical.size(), 10u);
+}
+
 TEST(HarmonicVolumeMap, BadInputIsATypedError) {
   const Case c = make_case("sphere");
   auto sp = c.sp;
