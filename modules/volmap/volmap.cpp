@@ -467,12 +467,13 @@ int collapse_parameter_zero_edges(VolumeMap& vm) {
     std::vector<std::vector<int>> of(vm.physical.size());
     for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
       for (int v : vm.tets[t]) of[v].push_back(t);
-    for (const Tet& bad : vm.tets) {
+    for (std::size_t b = 0; b < vm.tets.size() && !again; ++b) {
+      const Tet bad = vm.tets[b];  // a copy: a collapse replaces vm.tets
       if (volume6(vm.parameter, bad) > 0) continue;
       for (int i = 0; i < 4 && !again; ++i)
         for (int j = i + 1; j < 4 && !again; ++j) {
-          int keep = bad[i], drop = bad[j];
-          if (keep >= n && drop < n) std::swap(keep, drop);
+          // keep: the surface end, else the lower id (so the last point, moved into drop's slot, is never keep)
+          int keep = std::min(bad[i], bad[j]), drop = std::max(bad[i], bad[j]);
           if (drop < n || (vm.parameter[keep] - vm.parameter[drop]).norm() > 1e-12 * diag) continue;
           // Link condition: vertices and edges linked to both ends are exactly the edge's link.
           std::set<int> star, lk_v[2], lk_e_edge;
@@ -546,7 +547,6 @@ int collapse_parameter_zero_edges(VolumeMap& vm) {
           ++collapsed;
           again = true;
         }
-      if (again) break;
     }
   }
   return collapsed;
