@@ -452,6 +452,7 @@ void untangle(VolumeMap& vm, const Params& params) {
 // parameter space; the link condition keeps the mesh a manifold tetrahedralization.
 int collapse_parameter_zero_edges(VolumeMap& vm) {
   const int n = vm.surface_vertices;
+  if (vm.tets.empty()) return 0;
   double diag = 0;
   {
     Vec lo = vm.parameter[0], hi = vm.parameter[0];
@@ -599,8 +600,10 @@ VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<st
   {
     core::LogSection s("untangle");
     untangle(vm, params);
-    if (params.untangle_max_sweeps > 0 && flipped() > 0 && (vm.collapsed_edges = collapse_parameter_zero_edges(vm)) > 0)
-      untangle(vm, params);  // lifts the tets around the collapsed edges above the target
+    if (params.untangle_max_sweeps > 0 && flipped() > 0 && (vm.collapsed_edges = collapse_parameter_zero_edges(vm)) > 0) {
+      vm.untangle_stop = "done";  // unless the second run below says otherwise
+      untangle(vm, params);       // lifts the tets around the collapsed edges above the target
+    }
   }
   vm.flipped_tets = flipped();
   double phys = 0;

@@ -91,7 +91,9 @@ VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<st
 /// are removed; an edge is collapsed only if the link condition holds and every changed tet is
 /// positive in parameter space and, at the best of the two ends' positions and their midpoint, in
 /// physical space (6 x volume above 1e-9 x the mean). The dropped point's slot takes the last point
-/// (surface points keep their ids). Returns the number of edges collapsed.
+/// (surface points keep their ids). Collapsing onto a surface vertex can bring back an interior edge
+/// between two surface vertices (a chord); its tets are positive, checked. Returns the number of
+/// edges collapsed.
 int collapse_parameter_zero_edges(VolumeMap& map);
 
 /// Point location in parameter space: a CGAL AABB tree over the bounding boxes of the mapped tets,
