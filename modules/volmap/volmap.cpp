@@ -268,6 +268,8 @@ struct GlobalData {
   std::vector<int> tets;                // tets touching a variable vertex
   std::vector<Eigen::Matrix3d> s_inv;   // per tet in `tets`: (physical shape matrix)^-1 * scale
   std::vector<double> weight;           // per tet: physical volume
+  std::vector<Vec> origin;              // per variable block: its position at the start
+  std::vector<double> unit;             // per variable block: position = origin + unit * x
   double eps = 1;
   double det_min = 0;
 };
@@ -275,7 +277,7 @@ struct GlobalData {
 double global_energy(unsigned nx, const double* x, double* grad, void* data) {
   auto* d = static_cast<GlobalData*>(data);
   auto& p = d->vm->parameter;
-  for (std::size_t k = 0; k < d->vars.size(); ++k) p[d->vars[k]] = Vec(x[3 * k], x[3 * k + 1], x[3 * k + 2]);
+  for (std::size_t k = 0; k < d->vars.size(); ++k) p[d->vars[k]] = d->origin[k] + d->unit[k] * Vec(x[3 * k], x[3 * k + 1], x[3 * k + 2]);
   if (grad) std::fill(grad, grad + nx, 0.0);
   double e = 0;
   d->det_min = HUGE_VAL;
@@ -301,7 +303,7 @@ double global_energy(unsigned nx, const double* x, double* grad, void* data) {
       const int k = d->var_of[t[j]];
       if (k < 0) continue;
       const Vec g = j == 0 ? Vec(-dP.col(0) - dP.col(1) - dP.col(2)) : Vec(dP.col(j - 1));
-      for (int c = 0; c < 3; ++c) grad[3 * k + c] += g[c];
+      for (int c = 0; c < 3; ++c) grad[3 * k + c] += d->unit[k] * g[c];
     }
   }
   return e;
@@ -343,12 +345,35 @@ void untangle_jointly(VolumeMap& vm, const std::vector<std::vector<int>>& nbrs, 
     d.s_inv.push_back(S.inverse() * scale);
     d.weight.push_back(S.determinant() / 6);
   }
-  std::vector<double> x(3 * d.vars.size());
-  for (std::size_t k = 0; k < d.vars.size(); ++k)
-    for (int c = 0; c < 3; ++c) x[3 * k + c] = vm.parameter[d.vars[k]][c];
+  // Variables scaled per vertex by 1/sqrt of the energy's stiffness there (Jacobi): sliver tets
+  // make some vertices ~1e8 times stiffer than others, and unscaled, L-BFGS's line search failed
+  // at its first step (measured on the washer).
+  std::vector<double> stiff(d.vars.size(), 0.0);
+  for (std::size_t i = 0; i < d.tets.size(); ++i) {
+    const Tet& t = vm.tets[d.tets[i]];
+    for (int j = 0; j < 4; ++j) {
+      const int k = d.var_of[t[j]];
+      if (k < 0) continue;
+      const Vec row = j == 0 ? Vec(-(d.s_inv[i].row(0) + d.s_inv[i].row(1) + d.s_inv[i].row(2)).transpose())
+                             : Vec(d.s_inv[i].row(j - 1).transpose());
+      stiff[k] += d.weight[i] * row.squaredNorm();
+    }
+  }
+  for (std::size_t k = 0; k < d.vars.size(); ++k) {
+    d.origin.push_back(vm.parameter[d.vars[k]]);
+    d.unit.push_back(stiff[k] > 0 ? 1 / std::sqrt(stiff[k]) : 1.0);
+  }
+  std::vector<double> x(3 * d.vars.size(), 0.0);
   global_energy(static_cast<unsigned>(x.size()), x.data(), nullptr, &d);
+  // Where no positive map exists (a connectivity the fixed surface forbids), det_min creeps toward
+  // 0 and then the tiny eps lets L-BFGS diverge (measured: -3e-4, then -1e32): if the last round is
+  // not positive, the best one is kept; 30 rounds without a better one end it (on the eight det_min
+  // falls for a few rounds before it turns positive).
+  std::vector<double> best_x = x;  // of the rounds (the first rounds' large eps may lower det_min at first)
+  double best_det = -HUGE_VAL;
+  int since_best = 0;
   double e_prev = HUGE_VAL;
-  for (int round = 0; round < max_rounds; ++round) {
+  for (int round = 0; round < max_rounds && since_best < 30; ++round) {
     // eps update of Garanzha et al.: small enough to make inverted tets expensive, never 0.
     const double mu = 0.9 * (d.det_min + std::sqrt(d.eps * d.eps + d.det_min * d.det_min)) / 2;
     d.eps = d.det_min < mu ? std::max(1e-12, 2 * std::sqrt(mu * (mu - d.det_min))) : 1e-12;
@@ -363,10 +388,15 @@ void untangle_jointly(VolumeMap& vm, const std::vector<std::vector<int>>& nbrs, 
       // Round-off limited: x holds the last iterate.
     }
     e = global_energy(static_cast<unsigned>(x.size()), x.data(), nullptr, &d);
+    if (d.det_min > best_det) {
+      best_det = d.det_min, best_x = x, since_best = 0;
+    } else {
+      ++since_best;
+    }
     if (d.det_min > 0 && std::abs(e_prev - e) < 1e-6 * std::abs(e)) break;
     e_prev = e;
   }
-  // The energy is evaluated over these tets only; the parameter array now holds the last x.
+  if (!(d.det_min > 0)) global_energy(static_cast<unsigned>(best_x.size()), best_x.data(), nullptr, &d);  // writes the best positions
 }
 
 void untangle(VolumeMap& vm, const Params& params) {
@@ -437,7 +467,7 @@ void untangle(VolumeMap& vm, const Params& params) {
     return c;
   };
   if (flipped() > 0 && params.untangle_max_sweeps > 0) {
-    untangle_jointly(vm, nbrs, tets_of, 3, 50);
+    untangle_jointly(vm, nbrs, tets_of, 3, 300);
     vm.untangle_joint = true;
     sweeps();  // lifts the tets the joint pass left below the target
   }
@@ -448,20 +478,16 @@ void untangle(VolumeMap& vm, const Params& params) {
 // Why (measured on the washer): an interior edge's link alternated between interior vertices and
 // vertices of one planar polycube face, so the edge would have to cross that face for its link to
 // wind around it; with the surface fixed the LPs end with one end on the other (6 x volume exactly
-// 0, not negative), and no joint move helps. Collapsing keeps every other tet as it is in
-// parameter space; the link condition keeps the mesh a manifold tetrahedralization.
-int collapse_parameter_zero_edges(VolumeMap& vm) {
+// 0, not negative), and no joint move helps. Such configurations need a change of connectivity;
+// an edge collapse is the smallest one, and the link condition keeps the mesh a manifold
+// tetrahedralization.
+int collapse_flat_tet_edges(VolumeMap& vm) {
   const int n = vm.surface_vertices;
   if (vm.tets.empty()) return 0;
-  double diag = 0;
-  {
-    Vec lo = vm.parameter[0], hi = vm.parameter[0];
-    for (const Vec& q : vm.parameter) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-    diag = (hi - lo).norm();
-  }
-  double mean6 = 0;
-  for (const Tet& t : vm.tets) mean6 += volume6(vm.physical, t);
-  mean6 /= static_cast<double>(vm.tets.size());
+  double mean6_phys = 0, mean6_param = 0;
+  for (const Tet& t : vm.tets) mean6_phys += volume6(vm.physical, t), mean6_param += volume6(vm.parameter, t);
+  mean6_phys /= static_cast<double>(vm.tets.size());
+  mean6_param /= static_cast<double>(vm.tets.size());
   int collapsed = 0;
   for (bool again = true; again;) {
     again = false;
@@ -471,87 +497,112 @@ int collapse_parameter_zero_edges(VolumeMap& vm) {
     for (std::size_t b = 0; b < vm.tets.size() && !again; ++b) {
       const Tet bad = vm.tets[b];  // a copy: a collapse replaces vm.tets
       if (volume6(vm.parameter, bad) > 0) continue;
-      for (int i = 0; i < 4 && !again; ++i)
-        for (int j = i + 1; j < 4 && !again; ++j) {
-          // keep: the surface end, else the lower id (so the last point, moved into drop's slot, is never keep)
-          int keep = std::min(bad[i], bad[j]), drop = std::max(bad[i], bad[j]);
-          if (drop < n || (vm.parameter[keep] - vm.parameter[drop]).norm() > 1e-12 * diag) continue;
-          // Link condition: vertices and edges linked to both ends are exactly the edge's link.
-          std::set<int> star, lk_v[2], lk_e_edge;
-          std::set<std::pair<int, int>> lk_e[2], lk_edge_e;
-          const int ends[2] = {keep, drop};
-          for (int k = 0; k < 2; ++k)
-            for (int t : of[ends[k]]) {
-              std::vector<int> opp;
-              for (int v : vm.tets[t])
-                if (v != ends[k]) opp.push_back(v);
-              const bool both = std::find(vm.tets[t].begin(), vm.tets[t].end(), ends[1 - k]) != vm.tets[t].end();
-              if (both) star.insert(t);
-              for (int a = 0; a < 3; ++a) {
-                lk_v[k].insert(opp[a]);
-                lk_e[k].insert({std::min(opp[a], opp[(a + 1) % 3]), std::max(opp[a], opp[(a + 1) % 3])});
-              }
-            }
-          std::set<int> edge_v;
-          std::set<std::pair<int, int>> edge_e;
-          for (int t : star) {
+      // Its edges, shortest in parameter space first.
+      std::vector<std::pair<double, std::pair<int, int>>> edges;
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j)
+          edges.push_back({(vm.parameter[bad[i]] - vm.parameter[bad[j]]).norm(), {bad[i], bad[j]}});
+      std::sort(edges.begin(), edges.end());
+      for (const auto& [length, e] : edges) {
+        // keep: the surface end, else the lower id (so the last point, moved into drop's slot, is never keep)
+        const int keep = std::min(e.first, e.second), drop = std::max(e.first, e.second);
+        if (drop < n) continue;  // two surface ends: their positions are fixed
+        // Link condition: vertices and edges linked to both ends are exactly the edge's link.
+        std::set<int> star, lk_v[2];
+        std::set<std::pair<int, int>> lk_e[2];
+        const int ends[2] = {keep, drop};
+        for (int k = 0; k < 2; ++k)
+          for (int t : of[ends[k]]) {
             std::vector<int> opp;
             for (int v : vm.tets[t])
-              if (v != keep && v != drop) opp.push_back(v);
-            edge_v.insert(opp.begin(), opp.end());
-            edge_e.insert({std::min(opp[0], opp[1]), std::max(opp[0], opp[1])});
+              if (v != ends[k]) opp.push_back(v);
+            if (std::find(vm.tets[t].begin(), vm.tets[t].end(), ends[1 - k]) != vm.tets[t].end()) star.insert(t);
+            for (int a = 0; a < 3; ++a) {
+              lk_v[k].insert(opp[a]);
+              lk_e[k].insert({std::min(opp[a], opp[(a + 1) % 3]), std::max(opp[a], opp[(a + 1) % 3])});
+            }
           }
-          std::set<int> common_v;
-          std::set<std::pair<int, int>> common_e;
-          std::set_intersection(lk_v[0].begin(), lk_v[0].end(), lk_v[1].begin(), lk_v[1].end(), std::inserter(common_v, common_v.end()));
-          std::set_intersection(lk_e[0].begin(), lk_e[0].end(), lk_e[1].begin(), lk_e[1].end(), std::inserter(common_e, common_e.end()));
-          common_v.erase(keep), common_v.erase(drop);
-          if (common_v != edge_v || common_e != edge_e) continue;
-          // The merged vertex's physical position: the best of the two ends and their midpoint.
-          std::vector<int> changed;
-          for (int k = 0; k < 2; ++k)
-            for (int t : of[ends[k]])
-              if (!star.count(t)) changed.push_back(t);
-          std::vector<Vec> choices{vm.physical[keep]};
-          if (keep >= n) choices.insert(choices.end(), {vm.physical[drop], 0.5 * (vm.physical[keep] + vm.physical[drop])});
-          double best = -HUGE_VAL;
-          Vec best_pos = vm.physical[keep];
-          const Vec old_keep = vm.physical[keep];
+        std::set<int> edge_v, common_v;
+        std::set<std::pair<int, int>> edge_e, common_e;
+        for (int t : star) {
+          std::vector<int> opp;
+          for (int v : vm.tets[t])
+            if (v != keep && v != drop) opp.push_back(v);
+          edge_v.insert(opp.begin(), opp.end());
+          edge_e.insert({std::min(opp[0], opp[1]), std::max(opp[0], opp[1])});
+        }
+        std::set_intersection(lk_v[0].begin(), lk_v[0].end(), lk_v[1].begin(), lk_v[1].end(), std::inserter(common_v, common_v.end()));
+        std::set_intersection(lk_e[0].begin(), lk_e[0].end(), lk_e[1].begin(), lk_e[1].end(), std::inserter(common_e, common_e.end()));
+        common_v.erase(keep), common_v.erase(drop);
+        if (common_v != edge_v || common_e != edge_e) continue;
+        // The merged point: keep's position, or (both ends free) drop's or the midpoint, in each
+        // space independently; the one whose changed tets are most positive (relative to the mean).
+        std::vector<int> changed;
+        for (int k = 0; k < 2; ++k)
+          for (int t : of[ends[k]])
+            if (!star.count(t)) changed.push_back(t);
+        // In parameter space a changed tet that was already flat or inverted may stay so if it gets
+        // no worse (three coincident points need two collapses); the star's flat tets go, so every
+        // collapse lowers the count.
+        const auto best_position = [&](std::vector<Vec>& pos, double mean6, bool tolerate_bad) {
+          std::vector<Vec> choices{pos[keep]};
+          if (keep >= n) choices.insert(choices.end(), {pos[drop], 0.5 * (pos[keep] + pos[drop])});
+          const Vec old = pos[keep];
+          std::pair<double, Vec> best{-HUGE_VAL, old};
           for (const Vec& c : choices) {
-            vm.physical[keep] = c;
+            pos[keep] = c;
             double w = HUGE_VAL;
             for (int t : changed) {
               Tet nt = vm.tets[t];
               std::replace(nt.begin(), nt.end(), drop, keep);
-              w = std::min({w, volume6(vm.physical, nt) / mean6, volume6(vm.parameter, nt) > 0 ? HUGE_VAL : -1.0});
+              const double now = volume6(pos, nt);
+              if (tolerate_bad) {
+                pos[keep] = old;
+                const double before = volume6(pos, vm.tets[t]);
+                pos[keep] = c;
+                if (!(before > 0)) {
+                  if (now < before) w = -1;
+                  continue;
+                }
+              }
+              w = std::min(w, now / mean6);
             }
-            if (w > best) best = w, best_pos = c;
+            if (w > best.first) best = {w, c};
           }
-          vm.physical[keep] = old_keep;
-          if (!(best > 1e-9)) continue;
-          // Collapse: drop the star, rename drop -> keep, move the last point into drop's slot.
-          vm.physical[keep] = best_pos;
-          std::vector<Tet> kept;
-          for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
-            if (!star.count(t)) kept.push_back(vm.tets[t]);
-          const int last = static_cast<int>(vm.physical.size()) - 1;
-          for (Tet& t : kept)
-            for (int& v : t) {
-              if (v == drop) v = keep;
-              else if (v == last) v = drop;
-            }
-          vm.physical[drop] = vm.physical[last];
-          vm.parameter[drop] = vm.parameter[last];
-          vm.physical.pop_back();
-          vm.parameter.pop_back();
-          vm.tets.swap(kept);
-          ++collapsed;
-          again = true;
-        }
+          pos[keep] = old;
+          return best;
+        };
+        const auto [phys_w, phys_at] = best_position(vm.physical, mean6_phys, false);
+        const auto [param_w, param_at] = best_position(vm.parameter, mean6_param, true);
+        if (!(phys_w > 1e-9) || !(param_w > 0)) continue;
+        // Collapse: drop the star, rename drop -> keep, move the last point into drop's slot.
+        vm.physical[keep] = phys_at;
+        vm.parameter[keep] = param_at;
+        std::vector<Tet> kept;
+        for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
+          if (!star.count(t)) kept.push_back(vm.tets[t]);
+        const int last = static_cast<int>(vm.physical.size()) - 1;
+        for (Tet& t : kept)
+          for (int& v : t) {
+            if (v == drop) v = keep;
+            else if (v == last) v = drop;
+          }
+        vm.physical[drop] = vm.physical[last];
+        vm.parameter[drop] = vm.parameter[last];
+        vm.physical.pop_back();
+        vm.parameter.pop_back();
+        vm.tets.swap(kept);
+        ++collapsed;
+        again = true;
+        break;
+      }
     }
   }
   return collapsed;
 }
+
+// Rounds of collapse + untangling while tets stay flat or inverted.
+constexpr int kCollapseRounds = 4;
 
 double parameter_volume(const VolumeMap& map, int t) { return volume6(map.parameter, map.tets[t]) / 6; }
 
@@ -600,8 +651,11 @@ VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<st
   {
     core::LogSection s("untangle");
     untangle(vm, params);
-    if (params.untangle_max_sweeps > 0 && flipped() > 0 && (vm.collapsed_edges = collapse_parameter_zero_edges(vm)) > 0) {
-      vm.untangle_stop = "done";  // unless the second run below says otherwise
+    for (int round = 0; round < kCollapseRounds && params.untangle_max_sweeps > 0 && flipped() > 0; ++round) {
+      const int c = collapse_flat_tet_edges(vm);
+      if (c == 0) break;
+      vm.collapsed_edges += c;
+      vm.untangle_stop = "done";  // unless the run below says otherwise
       untangle(vm, params);       // lifts the tets around the collapsed edges above the target
     }
   }

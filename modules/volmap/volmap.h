@@ -47,8 +47,8 @@ struct VolumeMap {
   std::vector<std::array<int, 4>> tets;    ///< positively oriented in physical space
   int split_edges = 0;    ///< interior edges joining two surface vertices, split at their midpoint
   int split_faces = 0;    ///< interior faces with three surface vertices, split at their centroid
-  /// interior edges of length 0 in parameter space collapsed after untangling (their tets were flat
-  /// there); optional in stage files written before it existed
+  /// edges of tets still flat or inverted after untangling, collapsed (collapse_flat_tet_edges);
+  /// optional in stage files written before it existed
   int collapsed_edges = 0;
   int flipped_tets_before_untangling = 0;  ///< harmonic map: tets with parameter volume <= 0
   int flipped_tets = 0;   ///< after untangling; 0 means the map is one-to-one onto the parameter domain
@@ -72,11 +72,12 @@ struct VolumeMap {
 /// signed volume of its one-ring (a linear program in its position, solved with NLopt SLSQP), in
 /// sweeps until no tet is bad or untangle_max_sweeps. If tets stay inverted (a tangle that needs
 /// several vertices to move together), the free vertices within 3 rings of them minimize the
-/// foldover-free energy of Garanzha et al. 2021 jointly (NLopt L-BFGS), then sweeps resume.
+/// foldover-free energy of Garanzha et al. 2021 jointly (NLopt L-BFGS, each vertex's variables
+/// scaled by its stiffness; the best round is kept if the last is not positive), then sweeps resume.
 /// Before mapping, interior edges and faces whose vertices are all on the surface are split: such a
 /// chord would have to lie on or outside the boundary of a polycube, so no map could keep its tets
-/// positive. If tets are still flat or inverted after untangling, collapse_parameter_zero_edges()
-/// removes the flat ones it can and untangling runs once more.
+/// positive. While tets stay flat or inverted after untangling (at most 4 rounds),
+/// collapse_flat_tet_edges() removes those it can and untangling runs again.
 /// Does not throw when untangling fails: flipped_tets > 0 says so (the caller decides).
 /// Throws core::InvalidInputError if surface_parameter does not have one entry per surface vertex,
 /// has a non-finite entry, or maps the surface onto a region of volume <= 0 (mirrored), and if the
@@ -85,16 +86,16 @@ struct VolumeMap {
 VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<std::array<double, 3>>& surface_parameter,
                               const Params& params);
 
-/// Collapses interior edges of length 0 (1e-12 x the domain diagonal) in parameter space that belong
-/// to tets of parameter volume <= 0 (untangling that parks one vertex on another), keeping a surface
-/// end where there is one (edges between two surface vertices are never collapsed). The edge's tets
-/// are removed; an edge is collapsed only if the link condition holds and every changed tet is
-/// positive in parameter space and, at the best of the two ends' positions and their midpoint, in
-/// physical space (6 x volume above 1e-9 x the mean). The dropped point's slot takes the last point
-/// (surface points keep their ids). Collapsing onto a surface vertex can bring back an interior edge
-/// between two surface vertices (a chord); its tets are positive, checked. Returns the number of
-/// edges collapsed.
-int collapse_parameter_zero_edges(VolumeMap& map);
+/// Removes tets that are flat or inverted in parameter space by collapsing one of their edges (the
+/// shortest in parameter space first) that has a free end: the edge's tets go, its free end merges
+/// into the other (a surface end keeps its id and positions), at whichever of the two ends'
+/// positions and their midpoint is best, in each space independently. Done only if the link
+/// condition holds and every changed tet is positive in physical space (6 x volume above 1e-9 x the
+/// mean) and in parameter space (a changed tet that was already flat or inverted may stay so but
+/// not get worse; each collapse removes at least one bad tet). The dropped point's slot takes the
+/// last point. Collapsing onto a surface vertex can bring back an interior edge between two surface
+/// vertices (a chord); its tets are positive, checked. Returns the number of edges collapsed.
+int collapse_flat_tet_edges(VolumeMap& map);
 
 /// Point location in parameter space: a CGAL AABB tree over the bounding boxes of the mapped tets,
 /// then barycentric coordinates. Keeps its own copy of the map.

@@ -294,13 +294,13 @@ double total_volume6(const std::vector<Eigen::Vector3d>& p, const VolumeMap& m, 
 // Untangling parked interior vertex 9 on 8 in parameter space: the six tets around the edge are
 // flat there. Collapsing the edge removes them and leaves a tetrahedralization of the same solid,
 // positive in both spaces.
-TEST(CollapseParameterZeroEdges, RemovesTheFlatTetsOfACoincidentInteriorEdge) {
+TEST(CollapseFlatTetEdges, RemovesTheFlatTetsOfACoincidentInteriorEdge) {
   VolumeMap m = bipyramid();
   m.parameter[8] = m.parameter[9] = Eigen::Vector3d(0.1, 0.05, 0.0);
   double smallest = 0;
   const double phys = total_volume6(m.physical, m, &smallest), param = total_volume6(m.parameter, m, &smallest);
   ASSERT_EQ(smallest, 0.0);
-  EXPECT_EQ(volmap::collapse_parameter_zero_edges(m), 1);
+  EXPECT_EQ(volmap::collapse_flat_tet_edges(m), 1);
   EXPECT_EQ(m.tets.size(), 12u);
   ASSERT_EQ(m.physical.size(), 9u);
   ASSERT_EQ(m.parameter.size(), 9u);
@@ -314,10 +314,10 @@ TEST(CollapseParameterZeroEdges, RemovesTheFlatTetsOfACoincidentInteriorEdge) {
 }
 
 // An interior vertex parked on a surface vertex merges into it; the surface point does not move.
-TEST(CollapseParameterZeroEdges, KeepsTheSurfaceEnd) {
+TEST(CollapseFlatTetEdges, KeepsTheSurfaceEnd) {
   VolumeMap m = bipyramid();
   m.parameter[8] = m.parameter[6];
-  EXPECT_EQ(volmap::collapse_parameter_zero_edges(m), 1);
+  EXPECT_EQ(volmap::collapse_flat_tet_edges(m), 1);
   EXPECT_EQ(m.tets.size(), 12u);
   EXPECT_EQ(m.physical[6], Eigen::Vector3d(0, 0, 1));
   double smallest = 0;
@@ -327,15 +327,22 @@ TEST(CollapseParameterZeroEdges, KeepsTheSurfaceEnd) {
   EXPECT_GT(smallest, 0);
 }
 
-// Flat but not collapsed (the ends 1e-6 apart), or nothing flat: nothing changes.
-TEST(CollapseParameterZeroEdges, LeavesEdgesOfNonZeroLengthAlone) {
+// Nothing flat: nothing changes. Ends 1e-6 apart with the edge's tets inverted: the edge goes too.
+TEST(CollapseFlatTetEdges, CollapsesOnlyWhereTetsAreBad) {
   VolumeMap m = bipyramid();
-  EXPECT_EQ(volmap::collapse_parameter_zero_edges(m), 0);
-  m.parameter[8] = Eigen::Vector3d(0.1, 0.05, 0.0);
-  m.parameter[9] = Eigen::Vector3d(0.1, 0.05, 1e-6);  // inverted around the edge
-  EXPECT_EQ(volmap::collapse_parameter_zero_edges(m), 0);
+  EXPECT_EQ(volmap::collapse_flat_tet_edges(m), 0);
   EXPECT_EQ(m.tets.size(), 18u);
-  EXPECT_EQ(m.physical.size(), 10u);
+  m.parameter[8] = Eigen::Vector3d(0.1, 0.05, 0.0);
+  m.parameter[9] = Eigen::Vector3d(0.1, 0.05, 1e-6);  // above 8: the six tets around the edge are inverted
+  double smallest = 0;
+  total_volume6(m.parameter, m, &smallest);
+  ASSERT_LT(smallest, 0);
+  EXPECT_EQ(volmap::collapse_flat_tet_edges(m), 1);
+  EXPECT_EQ(m.tets.size(), 12u);
+  total_volume6(m.physical, m, &smallest);
+  EXPECT_GT(smallest, 0);
+  total_volume6(m.parameter, m, &smallest);
+  EXPECT_GT(smallest, 0);
 }
 
 TEST(HarmonicVolumeMap, BadInputIsATypedError) {
