@@ -130,6 +130,7 @@ core::Json report_figures(const VolumeMap& m) {
                     {"split_edges", m.split_edges},
                     {"split_faces", m.split_faces},
                     {"collapsed_edges", m.collapsed_edges},
+                    {"flips", m.flips},
                     {"flipped_tets_before_untangling", m.flipped_tets_before_untangling},
                     {"flipped_tets", m.flipped_tets},
                     {"untangle_sweeps", m.untangle_sweeps},
@@ -194,6 +195,7 @@ VolumeMap from_json(const core::Json& j, const std::string& file) {
   m.split_edges = get_int("split_edges");
   m.split_faces = get_int("split_faces");
   if (j.contains("collapsed_edges")) m.collapsed_edges = get_int("collapsed_edges");
+  if (j.contains("flips")) m.flips = get_int("flips");
   m.flipped_tets_before_untangling = get_int("flipped_tets_before_untangling");
   m.flipped_tets = get_int("flipped_tets");
   m.untangle_sweeps = get_int("untangle_sweeps");

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -601,6 +602,104 @@ int collapse_flat_tet_edges(VolumeMap& vm) {
   return collapsed;
 }
 
+namespace {
+
+// The tet on vertices q, positively oriented in physical space, or nullopt if it is not positive
+// (6 x volume above 1e-9 x mean6) with either orientation.
+std::optional<Tet> oriented(const VolumeMap& vm, Tet q, double mean6) {
+  const double v = volume6(vm.physical, q);
+  if (v < 0) std::swap(q[2], q[3]);
+  if (!(std::abs(v) > 1e-9 * mean6)) return std::nullopt;
+  return q;
+}
+
+}  // namespace
+
+int flip_flat_tets(VolumeMap& vm) {
+  const int n = vm.surface_vertices;
+  if (vm.tets.empty()) return 0;
+  double mean6 = 0;
+  for (const Tet& t : vm.tets) mean6 += volume6(vm.physical, t);
+  mean6 /= static_cast<double>(vm.tets.size());
+  const auto bad = [&](const Tet& t) { return !(volume6(vm.parameter, t) > 0); };
+  int flips = 0;
+  for (bool again = true; again;) {
+    again = false;
+    std::vector<std::vector<int>> of(vm.physical.size());
+    for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
+      for (int v : vm.tets[t]) of[v].push_back(t);
+    const auto sharing = [&](std::vector<int> vs) {
+      std::vector<int> r = of[vs[0]];
+      for (std::size_t k = 1; k < vs.size(); ++k) {
+        std::vector<int> x;
+        for (int t : r)
+          if (std::find(vm.tets[t].begin(), vm.tets[t].end(), vs[k]) != vm.tets[t].end()) x.push_back(t);
+        r.swap(x);
+      }
+      return r;
+    };
+    // Replaces tets `old` by `repl` if every new tet is positive in physical space and fewer are bad
+    // in parameter space.
+    const auto try_replace = [&](const std::vector<int>& old, const std::vector<Tet>& quads) {
+      std::vector<Tet> repl;
+      int bad_before = 0, bad_after = 0;
+      for (int t : old) bad_before += bad(vm.tets[t]);
+      for (const Tet& q : quads) {
+        const auto t = oriented(vm, q, mean6);
+        if (!t) return false;
+        bad_after += bad(*t);
+        repl.push_back(*t);
+      }
+      if (bad_after >= bad_before) return false;
+      std::vector<Tet> kept;
+      for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
+        if (std::find(old.begin(), old.end(), t) == old.end()) kept.push_back(vm.tets[t]);
+      kept.insert(kept.end(), repl.begin(), repl.end());
+      vm.tets.swap(kept);
+      return true;
+    };
+    for (std::size_t b = 0; b < vm.tets.size() && !again; ++b) {
+      const Tet t = vm.tets[b];  // a copy: a flip replaces vm.tets
+      if (!bad(t)) continue;
+      // 3-2: an interior edge of t with exactly three tets becomes the triangle of its link.
+      for (int i = 0; i < 4 && !again; ++i)
+        for (int j = i + 1; j < 4 && !again; ++j) {
+          const int u = t[i], v = t[j];
+          if (u < n && v < n) continue;  // a surface edge or a chord: its ring is not closed
+          const std::vector<int> ring = sharing({u, v});
+          if (ring.size() != 3) continue;
+          std::set<int> link;
+          for (int r : ring)
+            for (int x : vm.tets[r])
+              if (x != u && x != v) link.insert(x);
+          if (link.size() != 3) continue;
+          const std::vector<int> l(link.begin(), link.end());
+          if (!sharing(l).empty()) continue;  // the triangle exists already
+          // The triangle must separate u from v in physical space.
+          if (volume6(vm.physical, {l[0], l[1], l[2], u}) * volume6(vm.physical, {l[0], l[1], l[2], v}) >= 0) continue;
+          if (try_replace(ring, {Tet{l[0], l[1], l[2], u}, Tet{l[0], l[1], l[2], v}})) ++flips, again = true;
+        }
+      // 2-3: a face of t shared with one other tet becomes three tets around the edge between their
+      // opposite vertices.
+      for (int k = 0; k < 4 && !again; ++k) {
+        std::vector<int> f;
+        for (int i = 0; i < 4; ++i)
+          if (i != k) f.push_back(t[i]);
+        const std::vector<int> two = sharing(f);
+        if (two.size() != 2) continue;  // a surface face
+        const int other = two[0] == static_cast<int>(b) ? two[1] : two[0];
+        int a = t[k], c = -1;
+        for (int x : vm.tets[other])
+          if (std::find(f.begin(), f.end(), x) == f.end()) c = x;
+        if (!sharing({a, c}).empty()) continue;  // the edge exists already
+        if (try_replace({static_cast<int>(b), other}, {Tet{a, c, f[0], f[1]}, Tet{a, c, f[1], f[2]}, Tet{a, c, f[2], f[0]}}))
+          ++flips, again = true;
+      }
+    }
+  }
+  return flips;
+}
+
 // Rounds of collapse + untangling while tets stay flat or inverted.
 constexpr int kCollapseRounds = 4;
 
@@ -653,8 +752,10 @@ VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<st
     untangle(vm, params);
     for (int round = 0; round < kCollapseRounds && params.untangle_max_sweeps > 0 && flipped() > 0; ++round) {
       const int c = collapse_flat_tet_edges(vm);
-      if (c == 0) break;
       vm.collapsed_edges += c;
+      const int f = flipped() > 0 ? flip_flat_tets(vm) : 0;
+      vm.flips += f;
+      if (c + f == 0) break;
       vm.untangle_stop = "done";  // unless the run below says otherwise
       untangle(vm, params);       // lifts the tets around the collapsed edges above the target
     }

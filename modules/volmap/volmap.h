@@ -50,6 +50,8 @@ struct VolumeMap {
   /// edges of tets still flat or inverted after untangling, collapsed (collapse_flat_tet_edges);
   /// optional in stage files written before it existed
   int collapsed_edges = 0;
+  /// 2-3 and 3-2 flips around such tets (flip_flat_tets); optional in stage files written before it existed
+  int flips = 0;
   int flipped_tets_before_untangling = 0;  ///< harmonic map: tets with parameter volume <= 0
   int flipped_tets = 0;   ///< after untangling; 0 means the map is one-to-one onto the parameter domain
   int untangle_sweeps = 0;                 ///< sweeps the untangling took
@@ -77,7 +79,7 @@ struct VolumeMap {
 /// Before mapping, interior edges and faces whose vertices are all on the surface are split: such a
 /// chord would have to lie on or outside the boundary of a polycube, so no map could keep its tets
 /// positive. While tets stay flat or inverted after untangling (at most 4 rounds),
-/// collapse_flat_tet_edges() removes those it can and untangling runs again.
+/// collapse_flat_tet_edges() and flip_flat_tets() remove those they can and untangling runs again.
 /// Does not throw when untangling fails: flipped_tets > 0 says so (the caller decides).
 /// Throws core::InvalidInputError if surface_parameter does not have one entry per surface vertex,
 /// has a non-finite entry, or maps the surface onto a region of volume <= 0 (mirrored), and if the
@@ -96,6 +98,14 @@ VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<st
 /// last point. Collapsing onto a surface vertex can bring back an interior edge between two surface
 /// vertices (a chord); its tets are positive, checked. Returns the number of edges collapsed.
 int collapse_flat_tet_edges(VolumeMap& map);
+
+/// Where no collapse helps, changes the connectivity around tets that are flat or inverted in
+/// parameter space by flips: 3-2 (an interior edge of such a tet with exactly three tets becomes the
+/// triangle of its link) and 2-3 (a face shared with one other tet becomes three tets around the
+/// edge between their opposite vertices). A flip is made only if its new tets are positive in
+/// physical space (6 x volume above 1e-9 x the mean) and fewer of them are flat or inverted in
+/// parameter space than of the tets they replace. Points do not change. Returns the number of flips.
+int flip_flat_tets(VolumeMap& map);
 
 /// Point location in parameter space: a CGAL AABB tree over the bounding boxes of the mapped tets,
 /// then barycentric coordinates. Keeps its own copy of the map.

@@ -345,6 +345,57 @@ TEST(CollapseFlatTetEdges, CollapsesOnlyWhereTetsAreBad) {
   EXPECT_GT(smallest, 0);
 }
 
+namespace {
+
+// Two tets on the triangle 0 1 2 (z = 0), apex 3 above and 4 below; the segment 3-4 crosses the
+// triangle's interior. Points 3 and 4 are free.
+VolumeMap two_tets() {
+  VolumeMap m;
+  m.surface_vertices = 3;
+  m.physical = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.3, 1}, {0.3, 0.3, -1}};
+  m.tets = {{0, 1, 2, 3}, {0, 2, 1, 4}};
+  m.parameter = m.physical;
+  return m;
+}
+
+}  // namespace
+
+// The apex lies in the triangle's plane in parameter space: the upper tet is flat, but the three
+// tets around the edge 3-4 are positive in both spaces.
+TEST(FlipFlatTets, TwoThreeFlipRemovesAFlatTet) {
+  VolumeMap m = two_tets();
+  m.parameter[3] = Eigen::Vector3d(0.3, 0.3, 0.0);
+  double smallest = 0;
+  const double phys = total_volume6(m.physical, m, &smallest), param = total_volume6(m.parameter, m, &smallest);
+  ASSERT_EQ(smallest, 0.0);
+  EXPECT_EQ(volmap::flip_flat_tets(m), 1);
+  EXPECT_EQ(m.tets.size(), 3u);
+  EXPECT_NEAR(total_volume6(m.physical, m, &smallest), phys, 1e-12);
+  EXPECT_GT(smallest, 0);
+  EXPECT_NEAR(total_volume6(m.parameter, m, &smallest), param, 1e-12);
+  EXPECT_GT(smallest, 0);
+}
+
+// Three tets around the edge 3-4 whose parameter image passes through the triangle's edge 0-1:
+// one of them is flat; the two tets on the triangle are positive.
+TEST(FlipFlatTets, ThreeTwoFlipRemovesAFlatTet) {
+  VolumeMap m = two_tets();
+  ASSERT_EQ(volmap::flip_flat_tets(m), 0) << "nothing flat";
+  m.tets = {{3, 4, 0, 1}, {3, 4, 1, 2}, {3, 4, 2, 0}};
+  for (auto& t : m.tets)
+    if (tetmesh::signed_volume6(m.physical[t[0]], m.physical[t[1]], m.physical[t[2]], m.physical[t[3]]) < 0) std::swap(t[2], t[3]);
+  m.parameter[4] = Eigen::Vector3d(0.6, -0.3, -1);  // 3 -> 4 meets z = 0 at (0.45, 0, 0), on the edge 0-1
+  double smallest = 0;
+  total_volume6(m.parameter, m, &smallest);
+  ASSERT_NEAR(smallest, 0.0, 1e-15);
+  EXPECT_EQ(volmap::flip_flat_tets(m), 1);
+  EXPECT_EQ(m.tets.size(), 2u);
+  total_volume6(m.physical, m, &smallest);
+  EXPECT_GT(smallest, 0);
+  total_volume6(m.parameter, m, &smallest);
+  EXPECT_GT(smallest, 0);
+}
+
 TEST(HarmonicVolumeMap, BadInputIsATypedError) {
   const Case c = make_case("sphere");
   auto sp = c.sp;
