@@ -134,18 +134,63 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
   if (side[0][m.axis] == side[1][m.axis])
     throw core::TopologyError("polycube: both rims of the hole lie on the same face of the cube (patch " + std::to_string(holed[0]) + ")");
 
-  // The hole's box: centred, as wide (relative to the cube) as the rims are long relative to the faces.
+  // The hole's box. Its mean width (relative to the cube) is the ratio of the rims' length to the
+  // faces' (at most 0.5: the T-mesh's pillow, one element of 1/10 at the default level, needs room
+  // beside it). Its centre and aspect follow where the rim lies in its face: each rim vertex's
+  // bilinear coordinates in the quad of the face's four corners (closest point, Gauss-Newton; exact
+  // for a planar face) give a box per face, and the two faces' boxes are averaged. (A harmonic map
+  // of the face was tried first: on the 48-vertex tube it moved the box across both axes for a hole
+  // moved across one.) The box keeps 0.25 from the cube's sides (measured in session 5: a column
+  // 0.225 wide left the pillow's frusta 0.025 wide and the worst elements there).
+  const int a1 = (m.axis + 1) % 3, a2 = (m.axis + 2) % 3;
   double rim = 0, outer = 0;
-  for (int i = 0; i < 2; ++i)
+  std::array<double, 2> centre{0, 0}, extent{0, 0};
+  for (int i = 0; i < 2; ++i) {
+    const auto& P = L.patches[static_cast<std::size_t>(holed[i])];
+    const auto& F = L.patches[static_cast<std::size_t>(fills[i])];
+    std::array<Eigen::Vector3d, 4> X;  // physical corners
+    std::array<Vec3, 4> C;             // their cube points
     for (int k = 0; k < 4; ++k) {
-      rim += chain_length(L, L.patches[static_cast<std::size_t>(fills[i])].sides[k]);
-      outer += chain_length(L, L.patches[static_cast<std::size_t>(holed[i])].sides[k]);
+      rim += chain_length(L, F.sides[k]);
+      outer += chain_length(L, P.sides[k]);
+      const auto& q = L.points[P.corners[k]];
+      X[k] = Eigen::Vector3d(q[0], q[1], q[2]);
+      C[k] = corner_point(P.corners[k], holed[i]);
     }
-  // At most 0.5: the T-mesh's pillow (one element of 1/10 at the default level) needs room beside it.
+    std::array<double, 2> lo{1, 1}, hi{0, 0};
+    for (const auto& side : F.sides)
+      for (int v : side) {
+        const auto& q = L.points[v];
+        const Eigen::Vector3d r(q[0], q[1], q[2]);
+        double st[2] = {0.5, 0.5};
+        for (int it = 0; it < 30; ++it) {
+          const double s0 = st[0], t0 = st[1];
+          const Eigen::Vector3d B = (1 - s0) * (1 - t0) * X[0] + s0 * (1 - t0) * X[1] + s0 * t0 * X[2] + (1 - s0) * t0 * X[3];
+          Eigen::Matrix<double, 3, 2> J;
+          J.col(0) = (1 - t0) * (X[1] - X[0]) + t0 * (X[2] - X[3]);
+          J.col(1) = (1 - s0) * (X[3] - X[0]) + s0 * (X[2] - X[1]);
+          const Eigen::Vector2d step = (J.transpose() * J).ldlt().solve(J.transpose() * (r - B));
+          if (!step.allFinite()) break;
+          st[0] += step[0], st[1] += step[1];
+          if (step.norm() < 1e-12) break;
+        }
+        const double s0 = std::clamp(st[0], 0.0, 1.0), t0 = std::clamp(st[1], 0.0, 1.0);
+        for (int b = 0; b < 2; ++b) {
+          const int ax = b == 0 ? a1 : a2;
+          const double x = (1 - s0) * (1 - t0) * C[0][ax] + s0 * (1 - t0) * C[1][ax] + s0 * t0 * C[2][ax] + (1 - s0) * t0 * C[3][ax];
+          lo[b] = std::min(lo[b], x), hi[b] = std::max(hi[b], x);
+        }
+      }
+    for (int b = 0; b < 2; ++b) centre[b] += (lo[b] + hi[b]) / 4, extent[b] += (hi[b] - lo[b]) / 2;
+  }
   const double width = std::clamp(outer > 0 ? rim / outer : 0.5, 0.1, 0.5);
-  for (int a = 0; a < 3; ++a) {
-    m.hole_lo[a] = a == m.axis ? 0.0 : 0.5 - width / 2;
-    m.hole_hi[a] = a == m.axis ? 1.0 : 0.5 + width / 2;
+  const double mean_extent = (extent[0] + extent[1]) / 2;
+  m.hole_lo[m.axis] = 0.0, m.hole_hi[m.axis] = 1.0;
+  for (int b = 0; b < 2; ++b) {
+    const int a = b == 0 ? a1 : a2;
+    const double w = std::clamp(mean_extent > 0 ? width * extent[b] / mean_extent : width, 0.1, 0.5);
+    const double c = std::clamp(centre[b], 0.25 + w / 2, 0.75 - w / 2);
+    m.hole_lo[a] = c - w / 2, m.hole_hi[a] = c + w / 2;
   }
   // Rim corners: matched to the holed face's corners by the cyclic correspondence nearest in space,
   // then put at the hole box's corner beside their face corner.
@@ -207,7 +252,6 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
     m.max_angle_distortion_deg = std::max(m.max_angle_distortion_deg, pm.max_angle_distortion_deg);
   }
   // The holed faces: annuli between the face's sides and the rim, both placed above.
-  const int a1 = (m.axis + 1) % 3, a2 = (m.axis + 2) % 3;
   for (int i = 0; i < 2; ++i) {
     std::vector<int> tris;
     for (int t : L.patches[static_cast<std::size_t>(holed[i])].triangles)

@@ -8,9 +8,10 @@
 //   both boundaries fixed (the rim where the walls put it);
 // * the volume: TetGen tets of the solid, harmonic map with that boundary condition, untangled
 //   (volmap).
-// The hole's box is centred in the cube; its width across each axis is the ratio of the rims'
-// perimeter to the holed faces' perimeter (a sizing choice, not a constraint: any box gives a
-// bijective map, the proportions only lower its distortion).
+// The hole's box sits where the rims lie in their faces (bilinear coordinates of the rim vertices
+// in the face's corner quad), 0.25 from the cube's sides at least; its mean width is the ratio of
+// the rims' perimeter to the holed faces' perimeter, its aspect the rims' (a sizing choice, not a
+// constraint: any box gives a bijective map, the proportions only lower its distortion).
 #pragma once
 
 #include <array>

@@ -639,18 +639,22 @@ int flip_flat_tets(VolumeMap& vm) {
       return r;
     };
     // Replaces tets `old` by `repl` if every new tet is positive in physical space and fewer are bad
-    // in parameter space.
+    // in parameter space. Each new tet is oriented on its own, so the new tets must also fill the
+    // old ones' volume exactly: a fold (a 2-3 flip whose new edge misses the shared face) overlaps
+    // and has more.
     const auto try_replace = [&](const std::vector<int>& old, const std::vector<Tet>& quads) {
       std::vector<Tet> repl;
       int bad_before = 0, bad_after = 0;
-      for (int t : old) bad_before += bad(vm.tets[t]);
+      double volume_before = 0, volume_after = 0;
+      for (int t : old) bad_before += bad(vm.tets[t]), volume_before += volume6(vm.physical, vm.tets[t]);
       for (const Tet& q : quads) {
         const auto t = oriented(vm, q, mean6);
         if (!t) return false;
         bad_after += bad(*t);
+        volume_after += volume6(vm.physical, *t);
         repl.push_back(*t);
       }
-      if (bad_after >= bad_before) return false;
+      if (bad_after >= bad_before || std::abs(volume_after - volume_before) > 1e-9 * volume_before) return false;
       std::vector<Tet> kept;
       for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
         if (std::find(old.begin(), old.end(), t) == old.end()) kept.push_back(vm.tets[t]);
@@ -675,6 +679,7 @@ int flip_flat_tets(VolumeMap& vm) {
           if (link.size() != 3) continue;
           const std::vector<int> l(link.begin(), link.end());
           if (!sharing(l).empty()) continue;  // the triangle exists already
+          if (l[2] < n) continue;            // an interior face of three surface vertices (see split_chords)
           // The triangle must separate u from v in physical space.
           if (volume6(vm.physical, {l[0], l[1], l[2], u}) * volume6(vm.physical, {l[0], l[1], l[2], v}) >= 0) continue;
           if (try_replace(ring, {Tet{l[0], l[1], l[2], u}, Tet{l[0], l[1], l[2], v}})) ++flips, again = true;
@@ -692,6 +697,7 @@ int flip_flat_tets(VolumeMap& vm) {
         for (int x : vm.tets[other])
           if (std::find(f.begin(), f.end(), x) == f.end()) c = x;
         if (!sharing({a, c}).empty()) continue;  // the edge exists already
+        if (a < n && c < n) continue;           // a chord (see split_chords)
         if (try_replace({static_cast<int>(b), other}, {Tet{a, c, f[0], f[1]}, Tet{a, c, f[1], f[2]}, Tet{a, c, f[2], f[0]}}))
           ++flips, again = true;
       }

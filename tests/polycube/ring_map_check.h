@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 
 #include <algorithm>
@@ -16,7 +17,7 @@
 
 namespace volts::test {
 
-/// No flipped tet, a positive smallest volume ratio, the round ring's volume up to its chords, and
+/// No flipped tet, a positive smallest volume ratio, the tets' volume that of the solid, the round ring's volume up to its chords, and
 /// one-to-one: 2,000 random points of the `cubes` cubes' sectors (kept off the chords of the round ring)
 /// lie in exactly one mapped tet and map inside the solid `rd` bounds (fills included).
 inline void expect_ring_map_one_to_one(const split::Decomposition& rd, const polycube::Embedding& e, const volmap::VolumeMap& vm,
@@ -31,6 +32,11 @@ inline void expect_ring_map_one_to_one(const split::Decomposition& rd, const pol
   for (const auto& p : vm.parameter) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   const volmap::Locator locate(vm, 2 * e.boundary_gap / (hi - lo).norm());
   const surface::Mesh solid = split::layout_mesh(rd.layout, true);
+  // The tets fill the solid exactly once (no fold or overlap from collapses and flips).
+  double tets_volume = 0;
+  for (const auto& t : vm.tets) tets_volume += tetmesh::signed_volume6(vm.physical[t[0]], vm.physical[t[1]], vm.physical[t[2]], vm.physical[t[3]]) / 6;
+  const double solid_volume = CGAL::to_double(CGAL::Polygon_mesh_processing::volume(solid));
+  EXPECT_NEAR(tets_volume, solid_volume, 1e-9 * solid_volume);
   CGAL::Side_of_triangle_mesh<surface::Mesh, surface::Kernel> inside(solid);
   const double margin = std::max(0.01, 2 * e.boundary_gap);
   std::mt19937 rng(seed);

@@ -375,12 +375,26 @@ TEST(FlipFlatTets, TwoThreeFlipRemovesAFlatTet) {
   EXPECT_GT(smallest, 0);
 }
 
+// The segment 3-4 misses the triangle (it meets z = 0 at (1, 1)): the three tets around it would
+// overlap their neighbours, so no flip, however bad the parameter tet is.
+TEST(FlipFlatTets, NoTwoThreeFlipWhereTheNewEdgeMissesTheFace) {
+  VolumeMap m = two_tets();
+  m.physical[3] = Eigen::Vector3d(1, 1, 1);
+  m.physical[4] = Eigen::Vector3d(1, 1, -1);
+  m.parameter = m.physical;
+  m.parameter[3] = Eigen::Vector3d(0.955, 1.366, -0.718);  // the upper tet inverted; the flip's tets would all be positive
+  ASSERT_LT(smallest_volume6(m.parameter, m), 0);
+  EXPECT_EQ(volmap::flip_flat_tets(m), 0);
+  EXPECT_EQ(m.tets.size(), 2u);
+}
+
 // Three tets around the edge 3-4 whose parameter image passes through the triangle's edge 0-1:
 // one of them is flat; the two tets on the triangle are positive.
 TEST(FlipFlatTets, ThreeTwoFlipRemovesAFlatTet) {
   VolumeMap m = two_tets();
   ASSERT_EQ(volmap::flip_flat_tets(m), 0) << "nothing flat";
   m.tets = {{3, 4, 0, 1}, {3, 4, 1, 2}, {3, 4, 2, 0}};
+  m.surface_vertices = 0;  // a triangle of three surface points would be an interior face on the surface: refused
   for (auto& t : m.tets)
     if (tetmesh::signed_volume6(m.physical[t[0]], m.physical[t[1]], m.physical[t[2]], m.physical[t[3]]) < 0) std::swap(t[2], t[3]);
   m.parameter[4] = Eigen::Vector3d(0.6, -0.3, -1);  // 3 -> 4 meets z = 0 at (0.45, 0, 0), on the edge 0-1
