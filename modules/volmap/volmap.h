@@ -79,7 +79,8 @@ struct VolumeMap {
 /// Before mapping, interior edges and faces whose vertices are all on the surface are split: such a
 /// chord would have to lie on or outside the boundary of a polycube, so no map could keep its tets
 /// positive. While tets stay flat or inverted after untangling (at most 4 rounds),
-/// collapse_flat_tet_edges() and flip_flat_tets() remove those they can and untangling runs again.
+/// collapse_flat_tet_edges() and flip_flat_tets() (repair.h) remove those they can and untangling
+/// runs again.
 /// Does not throw when untangling fails: flipped_tets > 0 says so (the caller decides).
 /// Throws core::InvalidInputError if surface_parameter does not have one entry per surface vertex,
 /// has a non-finite entry, or maps the surface onto a region of volume <= 0 (mirrored), and if the
@@ -88,24 +89,6 @@ struct VolumeMap {
 VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<std::array<double, 3>>& surface_parameter,
                               const Params& params);
 
-/// Removes tets that are flat or inverted in parameter space by collapsing one of their edges (the
-/// shortest in parameter space first) that has a free end: the edge's tets go, its free end merges
-/// into the other (a surface end keeps its id and positions), at whichever of the two ends'
-/// positions and their midpoint is best, in each space independently. Done only if the link
-/// condition holds and every changed tet is positive in physical space (6 x volume above 1e-9 x the
-/// mean) and in parameter space (a changed tet that was already flat or inverted may stay so but
-/// not get worse; each collapse removes at least one bad tet). The dropped point's slot takes the
-/// last point. Collapsing onto a surface vertex can bring back an interior edge between two surface
-/// vertices (a chord); its tets are positive, checked. Returns the number of edges collapsed.
-int collapse_flat_tet_edges(VolumeMap& map);
-
-/// Where no collapse helps, changes the connectivity around tets that are flat or inverted in
-/// parameter space by flips: 3-2 (an interior edge of such a tet with exactly three tets becomes the
-/// triangle of its link) and 2-3 (a face shared with one other tet becomes three tets around the
-/// edge between their opposite vertices). A flip is made only if its new tets are positive in
-/// physical space (6 x volume above 1e-9 x the mean) and fewer of them are flat or inverted in
-/// parameter space than of the tets they replace. Points do not change. Returns the number of flips.
-int flip_flat_tets(VolumeMap& map);
 
 /// Point location in parameter space: a CGAL AABB tree over the bounding boxes of the mapped tets,
 /// then barycentric coordinates. Keeps its own copy of the map.
