@@ -20,6 +20,14 @@ using Tet = std::array<int, 4>;
 
 double volume6(const std::vector<Vec>& p, const Tet& t) { return tetmesh::signed_volume6(p[t[0]], p[t[1]], p[t[2]], p[t[3]]); }
 
+// Point -> the tets holding it (rebuilt after every change: the scans restart).
+std::vector<std::vector<int>> tets_of_points(const VolumeMap& vm) {
+  std::vector<std::vector<int>> of(vm.physical.size());
+  for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
+    for (int v : vm.tets[t]) of[v].push_back(t);
+  return of;
+}
+
 }  // namespace
 
 // Why (measured on the washer): an interior edge's link alternated between interior vertices and
@@ -38,9 +46,7 @@ int collapse_flat_tet_edges(VolumeMap& vm) {
   int collapsed = 0;
   for (bool again = true; again;) {
     again = false;
-    std::vector<std::vector<int>> of(vm.physical.size());
-    for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
-      for (int v : vm.tets[t]) of[v].push_back(t);
+    const std::vector<std::vector<int>> of = tets_of_points(vm);
     for (std::size_t b = 0; b < vm.tets.size() && !again; ++b) {
       const Tet bad = vm.tets[b];  // a copy: a collapse replaces vm.tets
       if (volume6(vm.parameter, bad) > 0) continue;
@@ -171,9 +177,7 @@ int flip_flat_tets(VolumeMap& vm) {
   int flips = 0;
   for (bool again = true; again;) {
     again = false;
-    std::vector<std::vector<int>> of(vm.physical.size());
-    for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
-      for (int v : vm.tets[t]) of[v].push_back(t);
+    const std::vector<std::vector<int>> of = tets_of_points(vm);
     const auto sharing = [&](std::vector<int> vs) {
       std::vector<int> r = of[vs[0]];
       for (std::size_t k = 1; k < vs.size(); ++k) {
