@@ -18,6 +18,7 @@
 #include "models/models.h"
 #include "polycube/cube_frame.h"
 #include "polycube/difference.h"
+#include "ring_map_check.h"
 #include "split/split.h"
 #include "volmap/volmap.h"
 
@@ -139,24 +140,16 @@ TEST_P(Difference, VolumeMapIsOneToOneOntoTheCubeMinusTheHole) {
   CGAL::Side_of_triangle_mesh<surface::Mesh, surface::Kernel> inside(solid);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0.01, 0.99);
-  int tried = 0, not_one = 0, outside = 0, missing = 0;
-  while (tried < 2000) {
+  test::LocateCounts c;
+  for (int tried = 0; tried < 2000;) {
     const std::array<double, 3> p{u(rng), u(rng), u(rng)};
     bool in_box = true;
     for (int a : {a1, a2}) in_box = in_box && p[a] > m.hole_lo[a] - 0.01 && p[a] < m.hole_hi[a] + 0.01;
     if (in_box) continue;
     ++tried;
-    not_one += locate.tets_containing(p, 1e-12).size() != 1;
-    const auto q = locate.physical(p);
-    if (!q) {
-      ++missing;
-      continue;
-    }
-    outside += inside(surface::Point((*q)[0], (*q)[1], (*q)[2])) == CGAL::ON_UNBOUNDED_SIDE;
+    test::locate_point(locate, inside, p, c);
   }
-  EXPECT_EQ(not_one, 0);
-  EXPECT_EQ(missing, 0);
-  EXPECT_EQ(outside, 0);
+  test::expect_all_located(c);
   // A point inside the hole is outside the domain.
   std::array<double, 3> centre{0.5, 0.5, 0.5};
   EXPECT_FALSE(locate.physical(centre).has_value());

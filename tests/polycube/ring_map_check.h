@@ -1,5 +1,5 @@
-// Shared by the ring tests (header-only): the checks that make a torus volume map one-to-one onto
-// its round ring (Liu et al. §4.3).
+// Shared by the polycube tests (header-only): locating parameter points in a volume map, and the
+// checks that make a torus volume map one-to-one onto its round ring (Liu et al. §4.3).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <random>
 
 #include "polycube/embedding.h"
@@ -16,6 +17,29 @@
 #include "volmap/volmap.h"
 
 namespace volts::test {
+
+/// Points of parameter space checked against a volume map: how many lie in other than exactly one
+/// mapped tet, have no physical image, or map outside the solid.
+struct LocateCounts {
+  int not_one = 0, missing = 0, outside = 0;
+};
+
+inline void locate_point(const volmap::Locator& locate, const CGAL::Side_of_triangle_mesh<surface::Mesh, surface::Kernel>& inside,
+                         const std::array<double, 3>& x, LocateCounts& c) {
+  c.not_one += locate.tets_containing(x, 1e-12).size() != 1;
+  const auto p = locate.physical(x);
+  if (!p) {
+    ++c.missing;
+    return;
+  }
+  c.outside += inside(surface::Point((*p)[0], (*p)[1], (*p)[2])) == CGAL::ON_UNBOUNDED_SIDE;
+}
+
+inline void expect_all_located(const LocateCounts& c) {
+  EXPECT_EQ(c.not_one, 0);
+  EXPECT_EQ(c.missing, 0);
+  EXPECT_EQ(c.outside, 0);
+}
 
 /// No flipped tet, a positive smallest volume ratio, the tets' volume that of the solid, the round ring's volume up to its chords, and
 /// one-to-one: 2,000 random points of the `cubes` cubes' sectors (kept off the chords of the round ring)
@@ -41,20 +65,9 @@ inline void expect_ring_map_one_to_one(const split::Decomposition& rd, const pol
   const double margin = std::max(0.01, 2 * e.boundary_gap);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0), w(margin, 1 - margin);
-  int not_one = 0, outside = 0, missing = 0;
-  for (int k = 0; k < 2000; ++k) {
-    const auto x = polycube::cell_point(e, k % cubes, {u(rng), w(rng), w(rng)});
-    not_one += locate.tets_containing(x, 1e-12).size() != 1;
-    const auto p = locate.physical(x);
-    if (!p) {
-      ++missing;
-      continue;
-    }
-    outside += inside(surface::Point((*p)[0], (*p)[1], (*p)[2])) == CGAL::ON_UNBOUNDED_SIDE;
-  }
-  EXPECT_EQ(not_one, 0);
-  EXPECT_EQ(missing, 0);
-  EXPECT_EQ(outside, 0);
+  LocateCounts c;
+  for (int k = 0; k < 2000; ++k) locate_point(locate, inside, polycube::cell_point(e, k % cubes, {u(rng), w(rng), w(rng)}), c);
+  expect_all_located(c);
 }
 
 }  // namespace volts::test

@@ -355,6 +355,21 @@ TEST(VolumeMapFiles, JsonRoundTripAndVtu) {
   bad = volmap::to_json(m);
   bad.erase("parameter");
   EXPECT_THROW(volmap::from_json(bad, "x.json"), core::InvalidInputError);
+  // The repair counts are optional (older files lack them) but checked when present.
+  bad = volmap::to_json(m);
+  bad.erase("flips");
+  bad.erase("collapsed_edges");
+  EXPECT_EQ(volmap::from_json(bad, "x.json").flips, 0);
+  for (const char* key : {"flips", "collapsed_edges"}) {
+    bad = volmap::to_json(m);
+    bad[key] = "two";
+    try {
+      volmap::from_json(bad, "x.json");
+      FAIL() << key;
+    } catch (const core::InvalidInputError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("x.json: ") + key + " must be an integer"), std::string::npos) << e.what();
+    }
+  }
 
   const auto dir = test::fresh_dir("volmap", "files");
   volmap::write_vtu((dir / "map.vtu").string(), m, std::vector<int>(m.tets.size(), 0));
