@@ -230,6 +230,7 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
     r.min_scaled_jacobian = std::move(sj.min_per_element);
     r.max_scaled_jacobian = std::move(sj.max_per_element);
     r.min_scaled = sj.min, r.max_scaled = sj.max;
+    r.volume_frac_scaled_jacobian_above_0_5 = quality::volume_fraction_scaled_jacobian_above(r.hexes, gp, 0.5);
   }
   {
     // Certified sign of det J (Randrianarivony 2008 §4): the sampled figures above can miss a fold.
@@ -274,7 +275,8 @@ core::Json report_figures(const Result& r) {
                     {"undecided", r.undecided},            {"certified_min_detj_rel", r.certified_min_detj_rel},
                     {"global_functions", r.basis.points.size()},
                     {"partition_of_unity_error", r.basis.partition_of_unity_error},
-                    {"frac_scaled_jacobian_above_0_5", frac_above(r.min_scaled_jacobian, 0.5)}};
+                    {"frac_scaled_jacobian_above_0_5", frac_above(r.min_scaled_jacobian, 0.5)},
+                    {"volume_frac_scaled_jacobian_above_0_5", r.volume_frac_scaled_jacobian_above_0_5}};
 }
 
 void write_bezier_vtu(const std::string& path, const Result& r) {

@@ -66,6 +66,8 @@ struct Result {
   double certified_min_detj_rel = 0;  ///< min over elements of (lower bound of min det J) / (element's mean det J)
   int degree = 3;
   double min_scaled = 0, max_scaled = 0;
+  /// Fraction of the volume (det J-weighted Gauss points) whose scaled Jacobian is > 0.5
+  double volume_frac_scaled_jacobian_above_0_5 = 0;
   double hausdorff_rel = 0;     ///< max distance spline boundary -> input surface / bbox diagonal (sampled)
   double spline_volume = 0;     ///< ∫ det J over all elements
   double surface_volume = 0;    ///< volume enclosed by the input surface
@@ -94,7 +96,8 @@ Result extract(const std::vector<tmesh::TMesh>& t, const surface::Mesh& surface,
 /// Report keys: bezier_elements, degree, min_scaled_jacobian, max_scaled_jacobian, hausdorff_rel,
 /// volume_rel_error (+ spline_volume, surface_volume), certified_valid, certified_invalid,
 /// undecided, certified_min_detj_rel, global_functions, partition_of_unity_error,
-/// frac_scaled_jacobian_above_0_5 (elements whose sampled min scaled Jacobian is > 0.5).
+/// frac_scaled_jacobian_above_0_5 (elements whose sampled min scaled Jacobian is > 0.5),
+/// volume_frac_scaled_jacobian_above_0_5 (the volume where it is, quality.h).
 core::Json report_figures(const Result& r);
 
 /// bezier.vtu: VTK_BEZIER_HEXAHEDRON cells with per-cell min/max scaled Jacobian, boundary distance,

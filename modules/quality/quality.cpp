@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "bezier/certify.h"
+#include "bezier/quadrature.h"
 #include "core/errors.h"
 
 namespace volts::quality {
@@ -29,6 +30,22 @@ ScaledJacobian scaled_jacobian(const std::vector<bezier::BezierHex>& hexes, int 
     r.max = std::max(r.max, js.max_scaled);
   }
   return r;
+}
+
+double volume_fraction_scaled_jacobian_above(const std::vector<bezier::BezierHex>& hexes, int gauss_points, double threshold) {
+  const std::vector<double> g = bezier::gauss_legendre_points(gauss_points), w = bezier::gauss_legendre_weights(gauss_points);
+  double all = 0, above = 0;
+  for (const auto& h : hexes)
+    for (std::size_t k = 0; k < g.size(); ++k)
+      for (std::size_t j = 0; j < g.size(); ++j)
+        for (std::size_t i = 0; i < g.size(); ++i) {
+          Eigen::Matrix3d J;
+          bezier::evaluate(h, Eigen::Vector3d(g[i], g[j], g[k]), &J);
+          const double dv = std::max(J.determinant(), 0.0) * w[i] * w[j] * w[k];
+          all += dv;
+          if (bezier::scaled_jacobian(J) > threshold) above += dv;
+        }
+  return all > 0 ? above / all : 0;
 }
 
 ValidityCounts count_validity(const std::vector<int>& status) {

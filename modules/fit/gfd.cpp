@@ -1,0 +1,514 @@
+#include "fit/gfd.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "bezier/bspline.h"
+#include "core/errors.h"
+#include "core/log.h"
+#include "fit/net.h"
+#include "fit/validity.h"
+#include "tmesh/pillow.h"
+
+namespace volts::fit {
+namespace {
+
+using Eigen::Vector3d;
+using Map = std::function<tmesh::Vec3(const tmesh::Vec3&)>;
+
+constexpr double kPi = 3.14159265358979323846;
+
+Vector3d vec(const tmesh::Vec3& x) { return {x[0], x[1], x[2]}; }
+
+struct Ref {
+  int block = 0;
+  int local = 0;
+  std::array<int, 3> ijk{0, 0, 0};
+};
+
+// The control points of all solids, each shared point once, and the nets the validity checks see.
+struct State {
+  const std::vector<tmesh::TMesh>* solids = nullptr;
+  int degree = 3;
+  std::vector<Vector3d> pos;            // per function id
+  std::vector<std::vector<Ref>> refs;   // per function id: every solid holding it
+  std::vector<SolidNet> nets;           // per solid
+  std::vector<char> all_valid;          // per solid: its net satisfied Proposition 3 initially (then moves keep it)
+  const std::function<void(const std::vector<SolidNet>&)>* observer = nullptr;
+
+  void set(int id, const Vector3d& x) {
+    pos[static_cast<std::size_t>(id)] = x;
+    for (const Ref& r : refs[static_cast<std::size_t>(id)]) nets[static_cast<std::size_t>(r.block)].points[static_cast<std::size_t>(r.local)] = x;
+  }
+};
+
+State make_state(const std::vector<tmesh::TMesh>& solids) {
+  State s;
+  s.solids = &solids;
+  s.degree = solids.front().degree;
+  for (std::size_t b = 0; b < solids.size(); ++b) {
+    const auto& t = solids[b];
+    if (t.degree != s.degree) throw core::InvalidInputError("fit: solids of mixed degree");
+    if (t.function_ids.size() != t.control_points.size()) throw core::InvalidInputError("fit: a solid has no function ids");
+    SolidNet net;
+    net.size = t.size;
+    net.degree = {t.degree, t.degree, t.degree};
+    for (std::size_t i = 0; i < t.control_points.size(); ++i) {
+      net.points.push_back(vec(t.control_points[i]));
+      const auto id = static_cast<std::size_t>(t.function_ids[i]);
+      if (id >= s.pos.size()) s.pos.resize(id + 1, Vector3d::Zero()), s.refs.resize(id + 1);
+      Ref r;
+      r.block = static_cast<int>(b);
+      r.local = static_cast<int>(i);
+      const int n0 = t.size[0], n1 = t.size[1];
+      r.ijk = {static_cast<int>(i) % n0, (static_cast<int>(i) / n0) % n1, static_cast<int>(i) / (n0 * n1)};
+      s.refs[id].push_back(r);
+      s.pos[id] = vec(t.control_points[i]);
+    }
+    s.nets.push_back(std::move(net));
+  }
+  return s;
+}
+
+// Moves point `id` by up to `delta` inside the feasible region: μ = 1, 1/2, ... Returns the
+// applied displacement's length, or -1 if every trial was refused.
+double feasible_move(State& s, int id, const Vector3d& delta, int halvings, bool* shortened) {
+  const auto& refs = s.refs[static_cast<std::size_t>(id)];
+  struct Before {
+    int failures = 0;
+    double margin = 0;
+  };
+  std::vector<Before> before(refs.size());
+  ValidityParams vp;
+  for (std::size_t r = 0; r < refs.size(); ++r) {
+    if (s.all_valid[static_cast<std::size_t>(refs[r].block)]) continue;
+    const Validity v = check_solid_near(s.nets[static_cast<std::size_t>(refs[r].block)], refs[r].ijk, vp);
+    before[r] = {v.failures, v.margin};
+  }
+  const Vector3d start = s.pos[static_cast<std::size_t>(id)];
+  double mu = 1;
+  for (int h = 0; h <= halvings; ++h, mu *= 0.5) {
+    s.set(id, start + mu * delta);
+    bool ok = true;
+    for (std::size_t r = 0; r < refs.size() && ok; ++r) {
+      ValidityParams p;
+      p.stop_at_first_failure = before[r].failures == 0;
+      const Validity v = check_solid_near(s.nets[static_cast<std::size_t>(refs[r].block)], refs[r].ijk, p);
+      ok = before[r].failures == 0 ? v.valid : v.failures <= before[r].failures && v.margin >= before[r].margin;
+    }
+    if (ok) {
+      if (s.observer) (*s.observer)(s.nets);
+      *shortened = h > 0;
+      return (mu * delta).norm();
+    }
+  }
+  s.set(id, start);
+  return -1;
+}
+
+// A curve, face or interior of one solid: axes with state -1 are free, 0 / 1 fixed at the start / end.
+struct Entity {
+  int block = 0;
+  std::array<int, 3> state{-1, -1, -1};
+  std::vector<int> free_local;  // control points it moves (local indices of the block)
+  // Data: parameter points and the map there, with each point's basis per axis.
+  std::vector<Vector3d> q;
+  std::vector<std::array<bezier::BasisValues, 3>> basis;
+};
+
+int dimension(const std::array<int, 3>& st) { return static_cast<int>(std::count(st.begin(), st.end(), -1)); }
+
+// Every curve (dim 1), face (2) or interior (3) of the solids, each once (a face shared by two
+// solids belongs to the first).
+std::vector<Entity> entities(const State& s, int dim, const Map& map, int samples) {
+  const auto& solids = *s.solids;
+  std::vector<Entity> out;
+  std::set<std::vector<int>> seen;
+  for (std::size_t b = 0; b < solids.size(); ++b) {
+    const auto& t = solids[b];
+    for (int code = 0; code < 27; ++code) {
+      std::array<int, 3> st{code % 3 - 1, (code / 3) % 3 - 1, code / 9 - 1};
+      if (dimension(st) != dim) continue;
+      Entity e;
+      e.block = static_cast<int>(b);
+      e.state = st;
+      std::vector<int> ids;
+      for (int k = 0; k < t.size[2]; ++k)
+        for (int j = 0; j < t.size[1]; ++j)
+          for (int i = 0; i < t.size[0]; ++i) {
+            const std::array<int, 3> ijk{i, j, k};
+            bool in = true;
+            for (int a = 0; a < 3 && in; ++a)
+              in = st[a] == -1 ? ijk[a] > 0 && ijk[a] < t.size[a] - 1 : ijk[a] == (st[a] == 0 ? 0 : t.size[a] - 1);
+            if (!in) continue;
+            const int local = i + t.size[0] * (j + t.size[1] * k);
+            e.free_local.push_back(local);
+            ids.push_back(t.function_ids[static_cast<std::size_t>(local)]);
+          }
+      if (ids.empty()) continue;
+      std::sort(ids.begin(), ids.end());
+      if (!seen.insert(ids).second) continue;
+      std::array<std::vector<double>, 3> ts;
+      for (int a = 0; a < 3; ++a) {
+        if (st[a] != -1) {
+          ts[a] = {st[a] == 0 ? 0.0 : 1.0};
+          continue;
+        }
+        const int m = samples * (t.size[a] - t.degree);
+        for (int k = 0; k < m; ++k) ts[a].push_back((k + 0.5) / m);
+      }
+      for (const double w : ts[2])
+        for (const double v : ts[1])
+          for (const double u : ts[0]) {
+            e.q.push_back(vec(map(tmesh::block_point(t.corners, {u, v, w}))));
+            e.basis.push_back({bezier::basis_functions(t.knots[0], t.degree, u), bezier::basis_functions(t.knots[1], t.degree, v),
+                               bezier::basis_functions(t.knots[2], t.degree, w)});
+          }
+      out.push_back(std::move(e));
+    }
+  }
+  return out;
+}
+
+// Residuals of one entity at its data points with the current control points.
+std::vector<Vector3d> residuals(const State& s, const Entity& e) {
+  const auto& t = (*s.solids)[static_cast<std::size_t>(e.block)];
+  const auto& net = s.nets[static_cast<std::size_t>(e.block)];
+  const int p = t.degree;
+  std::vector<Vector3d> r(e.q.size());
+  for (std::size_t j = 0; j < e.q.size(); ++j) {
+    const auto& B = e.basis[j];
+    Vector3d x = Vector3d::Zero();
+    for (int c = 0; c <= p; ++c)
+      for (int b = 0; b <= p; ++b)
+        for (int a = 0; a <= p; ++a) {
+          const double w = B[0].values[a] * B[1].values[b] * B[2].values[c];
+          if (w == 0) continue;
+          x += w * net.at(B[0].span - p + a, B[1].span - p + b, B[2].span - p + c);
+        }
+    r[j] = e.q[j] - x;
+  }
+  return r;
+}
+
+// LSPIA directions of the entity's free points (indexed like free_local): Δ_i = Σ_j N_i(t_j) r_j / Σ_j N_i(t_j).
+std::vector<Vector3d> lspia_directions(const State& s, const Entity& e) {
+  const auto& t = (*s.solids)[static_cast<std::size_t>(e.block)];
+  const int p = t.degree;
+  const std::vector<Vector3d> r = residuals(s, e);
+  std::vector<Vector3d> num(t.control_points.size(), Vector3d::Zero());
+  std::vector<double> den(t.control_points.size(), 0.0);
+  for (std::size_t j = 0; j < e.q.size(); ++j) {
+    const auto& B = e.basis[j];
+    for (int c = 0; c <= p; ++c)
+      for (int b = 0; b <= p; ++b)
+        for (int a = 0; a <= p; ++a) {
+          const double w = B[0].values[a] * B[1].values[b] * B[2].values[c];
+          if (w == 0) continue;
+          const int local = (B[0].span - p + a) + t.size[0] * ((B[1].span - p + b) + t.size[1] * (B[2].span - p + c));
+          num[static_cast<std::size_t>(local)] += w * r[j];
+          den[static_cast<std::size_t>(local)] += w;
+        }
+  }
+  std::vector<Vector3d> d;
+  for (const int l : e.free_local) {
+    const auto i = static_cast<std::size_t>(l);
+    d.push_back(den[i] > 0 ? Vector3d(num[i] / den[i]) : Vector3d::Zero());
+  }
+  return d;
+}
+
+// Directions of the entity's free points (indexed like free_local): toward the least-squares fit
+// of its data with every other control point where it is, P* = argmin Σ_j |Q_j − X(t_j)|² (a
+// Tikhonov term 1e-10·mean diagonal keeps the normal matrix definite where data is sparse).
+std::vector<Vector3d> least_squares_directions(const State& s, const Entity& e) {
+  const auto& t = (*s.solids)[static_cast<std::size_t>(e.block)];
+  const auto& net = s.nets[static_cast<std::size_t>(e.block)];
+  const int p = t.degree;
+  std::vector<int> column(t.control_points.size(), -1);
+  for (std::size_t i = 0; i < e.free_local.size(); ++i) column[static_cast<std::size_t>(e.free_local[i])] = static_cast<int>(i);
+  const auto m = static_cast<Eigen::Index>(e.free_local.size());
+  std::vector<Eigen::Triplet<double>> trip;
+  Eigen::MatrixXd rhs(static_cast<Eigen::Index>(e.q.size()), 3);
+  for (std::size_t j = 0; j < e.q.size(); ++j) {
+    const auto& B = e.basis[j];
+    Vector3d fixed = Vector3d::Zero();
+    for (int c = 0; c <= p; ++c)
+      for (int b = 0; b <= p; ++b)
+        for (int a = 0; a <= p; ++a) {
+          const double w = B[0].values[a] * B[1].values[b] * B[2].values[c];
+          if (w == 0) continue;
+          const int local = (B[0].span - p + a) + t.size[0] * ((B[1].span - p + b) + t.size[1] * (B[2].span - p + c));
+          const int col = column[static_cast<std::size_t>(local)];
+          if (col >= 0) trip.emplace_back(static_cast<Eigen::Index>(j), col, w);
+          else fixed += w * net.points[static_cast<std::size_t>(local)];
+        }
+    rhs.row(static_cast<Eigen::Index>(j)) = (e.q[j] - fixed).transpose();
+  }
+  Eigen::SparseMatrix<double> N(static_cast<Eigen::Index>(e.q.size()), m);
+  N.setFromTriplets(trip.begin(), trip.end());
+  Eigen::SparseMatrix<double> A = N.transpose() * N;
+  double mean_diag = 0;
+  for (Eigen::Index i = 0; i < m; ++i) mean_diag += A.coeff(i, i);
+  mean_diag = m ? mean_diag / static_cast<double>(m) : 1;
+  const double lambda = 1e-10 * std::max(mean_diag, 1e-300);
+  Eigen::MatrixXd current(m, 3);
+  for (Eigen::Index i = 0; i < m; ++i) current.row(i) = net.points[static_cast<std::size_t>(e.free_local[static_cast<std::size_t>(i)])].transpose();
+  Eigen::SparseMatrix<double> I(m, m);
+  I.setIdentity();
+  A += lambda * I;
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+  if (ldlt.info() != Eigen::Success) throw core::NumericalError("fit: the least-squares system of a curve, face or solid is singular");
+  const Eigen::MatrixXd target = ldlt.solve(Eigen::MatrixXd(N.transpose() * rhs + lambda * current));
+  std::vector<Vector3d> d;
+  for (Eigen::Index i = 0; i < m; ++i) d.push_back((target.row(i) - current.row(i)).transpose());
+  return d;
+}
+
+void error_figures(const State& s, const std::vector<Entity>& es, double diag, double* rms, double* max) {
+  double sum = 0, mx = 0;
+  std::size_t n = 0;
+  for (const auto& e : es)
+    for (const auto& r : residuals(s, e)) sum += r.squaredNorm(), mx = std::max(mx, r.norm()), ++n;
+  *rms = n ? std::sqrt(sum / static_cast<double>(n)) / diag : 0;
+  *max = mx / diag;
+}
+
+PhaseReport fit_phase(State& s, const std::vector<Entity>& es, const char* name, double diag, const GfdParams& params) {
+  PhaseReport ph;
+  ph.name = name;
+  for (const auto& e : es) ph.points += static_cast<int>(e.free_local.size());
+  error_figures(s, es, diag, &ph.rms_before, &ph.max_before);
+  const auto& solids = *s.solids;
+  for (ph.sweeps = 0; ph.sweeps < params.sweeps;) {
+    ++ph.sweeps;
+    double largest = 0;
+    for (const auto& e : es) {
+      const auto d = dimension(e.state) == 3 ? lspia_directions(s, e) : least_squares_directions(s, e);
+      for (std::size_t i = 0; i < e.free_local.size(); ++i) {
+        const int id = solids[static_cast<std::size_t>(e.block)].function_ids[static_cast<std::size_t>(e.free_local[i])];
+        if (d[i].norm() <= params.stop_rel * diag) continue;
+        bool shortened = false;
+        const double moved = feasible_move(s, id, d[i], params.halvings, &shortened);
+        if (moved < 0) {
+          ++ph.refused;
+          continue;
+        }
+        ++ph.moves;
+        ph.shortened += shortened;
+        largest = std::max(largest, moved);
+      }
+    }
+    if (largest <= params.stop_rel * diag) break;
+  }
+  error_figures(s, es, diag, &ph.rms_after, &ph.max_after);
+  return ph;
+}
+
+// Inner control points of the common faces of two solids (off the face's edges), with their
+// neighbours one row inside on both sides.
+struct FacePoint {
+  int id = -1;         // P0
+  int a = -1, b = -1;  // neighbours one row inside the first and the second solid
+};
+struct Face {
+  int first = -1, second = -1;
+  std::vector<FacePoint> points;
+};
+
+std::vector<Face> common_faces(const State& s) {
+  const auto& solids = *s.solids;
+  std::map<std::pair<int, int>, Face> faces;
+  for (std::size_t id = 0; id < s.refs.size(); ++id) {
+    const auto& refs = s.refs[id];
+    if (refs.size() != 2) continue;
+    FacePoint fp;
+    fp.id = static_cast<int>(id);
+    int other[2] = {-1, -1};
+    for (int side = 0; side < 2; ++side) {
+      const Ref& r = refs[static_cast<std::size_t>(side)];
+      const auto& t = solids[static_cast<std::size_t>(r.block)];
+      int fixed = -1, count = 0;
+      for (int a = 0; a < 3; ++a)
+        if (r.ijk[a] == 0 || r.ijk[a] == t.size[a] - 1) fixed = a, ++count;
+      if (count != 1) break;  // on a face's edge: the cube's edges and where three or more solids meet
+      std::array<int, 3> n = r.ijk;
+      n[fixed] += r.ijk[fixed] == 0 ? 1 : -1;
+      other[side] = t.function_ids[static_cast<std::size_t>(n[0] + t.size[0] * (n[1] + t.size[1] * n[2]))];
+    }
+    if (other[0] < 0 || other[1] < 0) continue;
+    fp.a = other[0], fp.b = other[1];
+    Face& f = faces[{refs[0].block, refs[1].block}];
+    f.first = refs[0].block, f.second = refs[1].block;
+    f.points.push_back(fp);
+  }
+  std::vector<Face> out;
+  for (auto& [k, f] : faces) out.push_back(std::move(f));
+  return out;
+}
+
+double angle_deg(const Vector3d& u, const Vector3d& w) {
+  const double c = u.normalized().dot(w.normalized());
+  return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / kPi;
+}
+
+std::vector<Interface> measure(const State& s, const std::vector<Face>& faces) {
+  std::vector<Interface> out;
+  for (const Face& f : faces) {
+    Interface it;
+    it.first = f.first, it.second = f.second;
+    double su = 0, sw = 0, sum = 0;
+    for (const FacePoint& p : f.points) {
+      const Vector3d u = s.pos[static_cast<std::size_t>(p.id)] - s.pos[static_cast<std::size_t>(p.a)];
+      const Vector3d w = s.pos[static_cast<std::size_t>(p.b)] - s.pos[static_cast<std::size_t>(p.id)];
+      const double ang = angle_deg(u, w);
+      it.max_angle_deg = std::max(it.max_angle_deg, ang);
+      sum += ang, su += u.norm(), sw += w.norm();
+      ++it.points;
+    }
+    it.mean_angle_deg = it.points ? sum / it.points : 0;
+    it.alpha = sw > 0 ? su / sw : 0;
+    out.push_back(it);
+  }
+  return out;
+}
+
+// Moves the rows beside each common face toward Proposition 4 (P0 − a = α (b − P0), one α per
+// face): the nearest such pair to (a, b) is a' = P0 − α v, b' = P0 + v with v = (α u + w)/(α² + 1).
+// Only solid-interior points move (the others carry the boundary fit).
+PhaseReport g1_phase(State& s, const std::vector<Face>& faces, const GfdParams& params, double diag) {
+  PhaseReport ph;
+  ph.name = "g1";
+  auto interior = [&](int id) {
+    for (const Ref& r : s.refs[static_cast<std::size_t>(id)]) {
+      const auto& t = (*s.solids)[static_cast<std::size_t>(r.block)];
+      for (int a = 0; a < 3; ++a)
+        if (r.ijk[a] == 0 || r.ijk[a] == t.size[a] - 1) return false;
+    }
+    return true;
+  };
+  std::set<int> movable;
+  for (const Face& f : faces)
+    for (const FacePoint& p : f.points) {
+      if (interior(p.a)) movable.insert(p.a);
+      if (interior(p.b)) movable.insert(p.b);
+    }
+  ph.points = static_cast<int>(movable.size());
+  auto defect = [&]() {
+    double sum = 0, mx = 0;
+    int n = 0;
+    for (const auto& it : measure(s, faces)) mx = std::max(mx, it.max_angle_deg), sum += it.mean_angle_deg, ++n;
+    return std::array<double, 2>{n ? sum / n : 0, mx};
+  };
+  // For g1 the "errors" are angles in degrees: mean of the faces' mean angles, and the max.
+  const auto d0 = defect();
+  ph.rms_before = d0[0], ph.max_before = d0[1];
+  for (ph.sweeps = 0; ph.sweeps < params.g1_sweeps;) {
+    ++ph.sweeps;
+    const auto m = measure(s, faces);
+    // Targets of each movable point, averaged over the faces it is beside.
+    std::map<int, std::pair<Vector3d, int>> target;
+    for (std::size_t fi = 0; fi < faces.size(); ++fi) {
+      const double al = m[fi].alpha;
+      if (!(al > 0)) continue;
+      for (const FacePoint& p : faces[fi].points) {
+        const Vector3d P0 = s.pos[static_cast<std::size_t>(p.id)];
+        const Vector3d u = P0 - s.pos[static_cast<std::size_t>(p.a)], w = s.pos[static_cast<std::size_t>(p.b)] - P0;
+        const Vector3d v = (al * u + w) / (al * al + 1);
+        for (const auto& [id, x] : {std::pair<int, Vector3d>{p.a, P0 - al * v}, std::pair<int, Vector3d>{p.b, P0 + v}}) {
+          if (!movable.count(id)) continue;
+          auto& t = target[id];
+          if (t.second == 0) t.first = Vector3d::Zero();
+          t.first += x, ++t.second;
+        }
+      }
+    }
+    double largest = 0;
+    for (const auto& [id, t] : target) {
+      const Vector3d delta = t.first / t.second - s.pos[static_cast<std::size_t>(id)];
+      if (delta.norm() <= params.stop_rel * diag) continue;
+      bool shortened = false;
+      const double moved = feasible_move(s, id, delta, params.halvings, &shortened);
+      if (moved < 0) {
+        ++ph.refused;
+        continue;
+      }
+      ++ph.moves, ph.shortened += shortened;
+      largest = std::max(largest, moved);
+    }
+    if (largest <= params.stop_rel * diag) break;
+  }
+  const auto d1 = defect();
+  ph.rms_after = d1[0], ph.max_after = d1[1];
+  return ph;
+}
+
+void totals(const State& s, int* failures, double* margin) {
+  *failures = 0;
+  *margin = std::numeric_limits<double>::infinity();
+  for (const auto& net : s.nets) {
+    const Validity v = check_solid(net);
+    *failures += v.failures;
+    *margin = std::min(*margin, v.margin);
+  }
+}
+
+}  // namespace
+
+GfdReport fit_solids(std::vector<tmesh::TMesh>& solids, const Map& map, const GfdParams& params) {
+  if (params.samples < 1 || params.samples > 16) throw core::ConfigError("fit.samples must be in [1, 16]");
+  if (params.sweeps < 0 || params.sweeps > 1000) throw core::ConfigError("fit.sweeps must be in [0, 1000]");
+  if (!(params.stop_rel >= 0 && params.stop_rel < 1)) throw core::ConfigError("fit.stop_rel must be in [0, 1)");
+  if (params.halvings < 0 || params.halvings > 30) throw core::ConfigError("fit.halvings must be in [0, 30]");
+  if (params.g1_sweeps < 0 || params.g1_sweeps > 1000) throw core::ConfigError("fit.g1_sweeps must be in [0, 1000]");
+  if (solids.empty()) throw core::InvalidInputError("fit: no solids");
+  GfdReport rep;
+  State s = make_state(solids);
+  if (params.observer) s.observer = &params.observer;
+  Eigen::AlignedBox3d box;
+  for (const auto& x : s.pos) box.extend(x);
+  const double diag = std::max(box.diagonal().norm(), 1e-300);
+  for (const auto& net : s.nets) {
+    const Validity v = check_solid(net);
+    s.all_valid.push_back(v.valid);
+  }
+  totals(s, &rep.initial_failing_subgrids, &rep.initial_margin);
+  const std::vector<Face> faces = common_faces(s);
+  rep.g1_before = measure(s, faces);
+  const char* names[] = {"", "curves", "surfaces", "solids"};
+  for (int dim = 1; dim <= 3; ++dim) {
+    core::LogSection sec(std::string("fit ") + names[dim]);
+    const auto es = entities(s, dim, map, params.samples);
+    rep.phases.push_back(fit_phase(s, es, names[dim], diag, params));
+    const auto& ph = rep.phases.back();
+    core::log(std::to_string(ph.points) + " points, " + std::to_string(ph.sweeps) + " sweeps, " + std::to_string(ph.moves) + " moves (" +
+              std::to_string(ph.shortened) + " shortened, " + std::to_string(ph.refused) + " refused), max error " +
+              std::to_string(ph.max_before) + " -> " + std::to_string(ph.max_after) + " of the diagonal");
+  }
+  {
+    core::LogSection sec("fit g1");
+    rep.phases.push_back(g1_phase(s, faces, params, diag));
+    const auto& ph = rep.phases.back();
+    core::log("max angle across common faces (inner points) " + std::to_string(ph.max_before) + " -> " + std::to_string(ph.max_after) +
+              " degrees, " + std::to_string(ph.moves) + " moves, " + std::to_string(ph.refused) + " refused");
+  }
+  rep.g1_after = measure(s, faces);
+  totals(s, &rep.final_failing_subgrids, &rep.final_margin);
+  for (auto& t : solids)
+    for (std::size_t i = 0; i < t.control_points.size(); ++i) {
+      const Vector3d& x = s.pos[static_cast<std::size_t>(t.function_ids[i])];
+      t.control_points[i] = {x[0], x[1], x[2]};
+    }
+  return rep;
+}
+
+std::vector<Interface> g1_defects(const std::vector<tmesh::TMesh>& solids) {
+  const State s = make_state(solids);
+  return measure(s, common_faces(s));
+}
+
+}  // namespace volts::fit

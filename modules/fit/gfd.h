@@ -1,0 +1,82 @@
+// volts::fit — geometric iterative fitting with feasible directions (GFD) of Lin, Huang & Hu 2018,
+// "Geometric iterative fitting": the control points of the seven solids move, in the order
+// boundary curves, boundary surfaces, solids, toward the volume map's points, each move kept
+// inside the feasible region of the validity condition; then the smoothness across the solids'
+// common faces is improved the same way (Proposition 4).
+//
+// A phase works on the curves (block edges), surfaces (block faces) or interiors of the solids.
+// Each sweep computes the residuals r_j = Q_j − X(t_j) at dense data points (the map at uniformly
+// spaced parameters of the curve, face or solid) and moves every free control point of the phase
+// along the progressive-iterative-approximation direction Δ_i = Σ_j N_i(t_j) r_j / Σ_j N_i(t_j)
+// (LSPIA, Deng & Lin 2014). A move μΔ starts with μ = 1 and is halved until the control nets of
+// every solid holding the point still satisfy Proposition 3 on the sub-grids around it (the
+// paper's feasible region; Proposition 3 implies det J > 0, so the curves and surfaces of a valid
+// solid are regular too and Propositions 1–2 are not imposed separately — Proposition 2 as printed
+// also rejects valid grids, validity.h). Sub-grids that fail Proposition 3 already in the initial
+// nets (possible: the condition is only sufficient) may not get worse: their count around the
+// point may not grow and the smallest triple product may not fall. Block corners (the cube's and
+// Ω_c's vertices) stay where the map puts them.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fit/net.h"
+#include "tmesh/tmesh.h"
+
+namespace volts::fit {
+
+struct GfdParams {
+  int samples = 3;          ///< data points per knot span and free direction [1, 16]
+  int sweeps = 30;          ///< bound on sweeps per fitting phase (curves, surfaces, solids) [0, 1000]
+  double stop_rel = 1e-7;   ///< a phase stops when no point moves more than this × the bounding-box diagonal [0, 1)
+  int halvings = 6;         ///< halvings of a move before it is refused [0, 30]
+  int g1_sweeps = 20;       ///< sweeps of the smoothness improvement across common faces [0, 1000]
+  /// Called with the nets of all solids after every accepted move (tests check the validity
+  /// condition at every iteration); empty = none.
+  std::function<void(const std::vector<SolidNet>&)> observer;
+};
+
+/// What one phase did. Errors are distances |Q_j − X(t_j)| over the phase's data points,
+/// relative to the bounding-box diagonal of the solids' control points.
+struct PhaseReport {
+  std::string name;   ///< "curves", "surfaces", "solids" or "g1"
+  int points = 0;     ///< control points the phase may move
+  int sweeps = 0;
+  int moves = 0;      ///< accepted moves (full or shortened)
+  int shortened = 0;  ///< accepted after at least one halving
+  int refused = 0;    ///< refused after params.halvings halvings
+  double rms_before = 0, rms_after = 0, max_before = 0, max_after = 0;
+};
+
+/// Smoothness across one common face of two solids (Proposition 4): at each inner control point P0
+/// of the face (off its edges, which lie on the cube's edges or where three or more solids meet,
+/// outside the proposition's two-solid setting) with neighbours a (solid `first`, one row inside)
+/// and b (solid `second`), the angle between P0 − a and b − P0 (0 where G1 holds).
+struct Interface {
+  int first = -1, second = -1;  ///< solids (indices into the list)
+  int points = 0;               ///< inner face control points
+  double max_angle_deg = 0;
+  double mean_angle_deg = 0;
+  double alpha = 0;             ///< |P0 − a| / |b − P0| summed over the points (the α of Proposition 4)
+};
+
+struct GfdReport {
+  std::vector<PhaseReport> phases;
+  int initial_failing_subgrids = 0;  ///< Proposition 3 failures of the initial nets
+  int final_failing_subgrids = 0;    ///< and at the end (never more, by construction)
+  double initial_margin = 0, final_margin = 0;  ///< min T^u·(T^v × T^w) over all sub-grids (validity.h margin)
+  std::vector<Interface> g1_before, g1_after;
+};
+
+/// Fits the solids (initial_solids(), same `map` from [0,1]^3 to physical space) in place.
+/// Throws core::ConfigError for parameters out of range, core::InvalidInputError for solids
+/// without function ids or of mixed degree, what `map` throws.
+GfdReport fit_solids(std::vector<tmesh::TMesh>& solids, const std::function<tmesh::Vec3(const tmesh::Vec3&)>& map,
+                     const GfdParams& params);
+
+/// The smoothness of every common face of the solids (Proposition 4's quantities).
+std::vector<Interface> g1_defects(const std::vector<tmesh::TMesh>& solids);
+
+}  // namespace volts::fit
