@@ -30,7 +30,8 @@ const char* kUsage =
     "Runs the stages classify, split, polycube, tmesh, extract (one executable each, volts-STAGE)\n"
     "on the run described by CONFIG (YAML; see configs/default.yaml). Each stage reads the previous\n"
     "stage's file in DIR and writes its own, so --from STAGE resumes from the files on disk.\n"
-    "With 'route: tet' in CONFIG the route is the single stage tet2hex (volts-tet2hex).\n\n"
+    "With 'route: tet' in CONFIG the route is the single stage tet2hex (volts-tet2hex); with 'route: fit'\n"
+    "it is classify, then fit (volts-fit: seven pillowed B-spline solids, Lin, Huang & Hu 2018).\n\n"
     "  --workdir DIR   work directory (default: runs/<CONFIG name without extension>)\n"
     "  --from STAGE    first stage to run (default: classify)\n"
     "  --to STAGE      last stage to run (default: extract)\n\n"
@@ -40,6 +41,7 @@ const char* kUsage =
 // The stages of a route, in order.
 std::vector<std::string> route_stages(const std::string& route) {
   if (route == "tet") return {"tet2hex"};
+  if (route == "fit") return {"classify", "fit"};
   return std::vector<std::string>(std::begin(pipeline::kStages), std::end(pipeline::kStages));
 }
 
@@ -84,7 +86,9 @@ void print_summary(const std::string& workdir, const std::vector<std::string>& s
       {"extract", {"bezier_elements", "degree", "certified_valid", "undecided", "min_scaled_jacobian", "max_scaled_jacobian",
                    "hausdorff_rel", "volume_rel_error"}},
       {"tet2hex", {"tets", "bezier_elements", "degree", "certified_valid", "min_scaled_jacobian", "hausdorff_rel", "volume_rel_error",
-                   "boundary_faces_reverted"}}};
+                   "boundary_faces_reverted"}},
+      {"fit", {"patch_source", "bezier_elements", "certified_valid", "min_scaled_jacobian", "volume_frac_scaled_jacobian_above_0_5",
+               "hausdorff_rel", "volume_rel_error", "g1_max_angle_deg_after"}}};
   std::cout << "\nvolts summary (" << workdir << "/report.json)\n";
   std::printf("  %-9s %9s  %s\n", "stage", "time [s]", "figures");
   double total = 0;

@@ -178,7 +178,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
   Config c;
   c.source = source;
   Section top(root, "", source);
-  top.get("route", c.route, {"polycube", "tet"});
+  top.get("route", c.route, {"polycube", "tet", "fit"});
   {
     Section s = top.section("input");
     s.get("file", c.input.file);
@@ -247,6 +247,20 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("gauss_points", t.gauss_points, 0, 10);
     s.get("boundary_samples", t.boundary_samples, 2, 64);
     s.get("certify_max_depth", t.certify.max_depth, 0, 20);
+    s.finish();
+  }
+  {
+    Section s = top.section("fit");
+    auto& f = c.fit;
+    s.get("elements", f.pillow.elements, 1, 32);
+    s.get("degree", f.pillow.degree, 2, 5);
+    s.get("samples", f.gfd.samples, 1, 16);
+    s.get("sweeps", f.gfd.sweeps, 0, 1000);
+    s.get("g1_sweeps", f.gfd.g1_sweeps, 0, 1000);
+    s.get("halvings", f.gfd.halvings, 0, 30);
+    s.get("weights", f.cube.weights, {"mean-value", "uniform"});
+    s.get("tet_max_volume_rel", f.cube.tet_max_volume_rel, 1e-6, 1.0);
+    s.get("segmentation_smoothness", f.cube.segmentation.smoothness, 0.0, 10.0);
     s.finish();
   }
   top.finish();
@@ -372,6 +386,17 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "gauss_points" << YAML::Value << t.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << t.boundary_samples;
   e << YAML::Key << "certify_max_depth" << YAML::Value << t.certify.max_depth << YAML::EndMap;
+  const auto& f = c.fit;
+  e << YAML::Key << "fit" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "elements" << YAML::Value << f.pillow.elements;
+  e << YAML::Key << "degree" << YAML::Value << f.pillow.degree;
+  e << YAML::Key << "samples" << YAML::Value << f.gfd.samples;
+  e << YAML::Key << "sweeps" << YAML::Value << f.gfd.sweeps;
+  e << YAML::Key << "g1_sweeps" << YAML::Value << f.gfd.g1_sweeps;
+  e << YAML::Key << "halvings" << YAML::Value << f.gfd.halvings;
+  e << YAML::Key << "weights" << YAML::Value << f.cube.weights;
+  e << YAML::Key << "tet_max_volume_rel" << YAML::Value << f.cube.tet_max_volume_rel;
+  e << YAML::Key << "segmentation_smoothness" << YAML::Value << f.cube.segmentation.smoothness << YAML::EndMap;
   e << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }

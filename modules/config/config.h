@@ -12,6 +12,7 @@
 #include "split/split.h"
 #include "tmesh/tmesh.h"
 #include "extract/extract.h"
+#include "fit/route.h"
 #include "tet2hex/tet2hex.h"
 
 namespace volts::config {
@@ -26,7 +27,8 @@ struct InputParams {
 
 struct Config {
   std::string source;  ///< path of the file it was read from ("" for defaults)
-  std::string route = "polycube";  ///< pipeline route: "polycube" (the five stages) or "tet" (volts-tet2hex)
+  /// pipeline route: "polycube" (the five stages), "tet" (volts-tet2hex) or "fit" (classify, then volts-fit)
+  std::string route = "polycube";
   InputParams input;
   classify::Params classify;
   split::Params split;
@@ -34,6 +36,7 @@ struct Config {
   tmesh::Params tmesh;
   extract::Params extract;
   tet2hex::Params tet2hex;  ///< route "tet"
+  fit::Params fit;          ///< route "fit"
 };
 
 /// Reads and checks a config file. Throws core::ConfigError ("FILE: key.path: problem") or

@@ -61,7 +61,7 @@ TEST(Config, WrongTypesAndRangesAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {level: 9}\n").find("tmesh.level: 9 is out of range [1, 7]"), std::string::npos);
   EXPECT_NE(config_error("classify: {sharp_angle_deg: 0}\n").find("classify.sharp_angle_deg: 0 is out of range"), std::string::npos);
   EXPECT_NE(config_error("classify: {sharp_angle_deg: .nan}\n").find("classify.sharp_angle_deg"), std::string::npos);
-  EXPECT_NE(config_error("route: magic\n").find("route: 'magic' is not one of: polycube, tet"), std::string::npos);
+  EXPECT_NE(config_error("route: magic\n").find("route: 'magic' is not one of: fit, polycube, tet"), std::string::npos);
   EXPECT_NE(config_error("tmesh: 3\n").find("tmesh: must be a mapping"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {level: }\n").find("tmesh.level: has no value"), std::string::npos);
   EXPECT_NE(config_error("input: {file: a.obj, generate: box}\n").find("not both"), std::string::npos);
@@ -89,6 +89,33 @@ TEST(Config, TetRouteSection) {
   EXPECT_NE(config_error("tet2hex: {curve_boundary: maybe}\n").find("tet2hex.curve_boundary: must be true or false"), std::string::npos);
   EXPECT_NE(config_error("tet2hex: {max_radius_edge_ratio: 1.0}\n").find("tet2hex.max_radius_edge_ratio"), std::string::npos);
   EXPECT_NE(config_error("tet2hex: {degre: 2}\n").find("unknown key 'tet2hex.degre'"), std::string::npos);
+}
+
+// Route fit: the fit section, its defaults in configs/default.yaml, round trip and errors.
+TEST(Config, FitRouteSection) {
+  const config::Config file = config::load_config(std::string(VOLTS_SOURCE_DIR) + "/configs/default.yaml");
+  const config::Config builtin;
+  EXPECT_EQ(file.fit.pillow.elements, builtin.fit.pillow.elements);
+  EXPECT_EQ(file.fit.pillow.degree, builtin.fit.pillow.degree);
+  EXPECT_EQ(file.fit.gfd.samples, builtin.fit.gfd.samples);
+  EXPECT_EQ(file.fit.gfd.sweeps, builtin.fit.gfd.sweeps);
+  EXPECT_EQ(file.fit.gfd.g1_sweeps, builtin.fit.gfd.g1_sweeps);
+  EXPECT_EQ(file.fit.gfd.halvings, builtin.fit.gfd.halvings);
+  EXPECT_EQ(file.fit.cube.weights, builtin.fit.cube.weights);
+  EXPECT_DOUBLE_EQ(file.fit.cube.tet_max_volume_rel, builtin.fit.cube.tet_max_volume_rel);
+  EXPECT_DOUBLE_EQ(file.fit.cube.segmentation.smoothness, builtin.fit.cube.segmentation.smoothness);
+  const auto c = config::parse_config("route: fit\nfit: {elements: 6, degree: 4, sweeps: 5, weights: uniform, segmentation_smoothness: 1.5}\n", "t");
+  const auto d = config::parse_config(config::to_yaml(c), "emitted");
+  EXPECT_EQ(d.route, "fit");
+  EXPECT_EQ(d.fit.pillow.elements, 6);
+  EXPECT_EQ(d.fit.pillow.degree, 4);
+  EXPECT_EQ(d.fit.gfd.sweeps, 5);
+  EXPECT_EQ(d.fit.cube.weights, "uniform");
+  EXPECT_DOUBLE_EQ(d.fit.cube.segmentation.smoothness, 1.5);
+  EXPECT_NE(config_error("fit: {elements: 0}\n").find("fit.elements: 0 is out of range [1, 32]"), std::string::npos);
+  EXPECT_NE(config_error("fit: {degree: 1}\n").find("fit.degree: 1 is out of range [2, 5]"), std::string::npos);
+  EXPECT_NE(config_error("fit: {weights: cotan}\n").find("fit.weights"), std::string::npos);
+  EXPECT_NE(config_error("fit: {element: 2}\n").find("unknown key 'fit.element'"), std::string::npos);
 }
 
 TEST(Config, MissingFileIsInvalidInput) {

@@ -1,0 +1,19 @@
+// The solver exports of a run's Bézier elements, shared by volts-extract and volts-fit: the files
+// of extract.exports (bezier.vtu, bezier.bext + bezier.k, bezier.json, bezier.msh,
+// scaled_jacobian_histogram.png), written beside --output or in the work directory.
+#pragma once
+
+#include "core/stage_file.h"
+#include "extract/extract.h"
+#include "stage_main.h"
+
+namespace volts::pipeline {
+
+/// Checks extract.exports against `degree` (before any work: a bad list costs nothing).
+void check_exports(const StageContext& ctx, int degree);
+
+/// Writes the exports of `r` and logs them; returns the report figures of extract::report_figures
+/// plus "output" (the .vtu, if written) and "outputs" (every file by kind).
+core::Json write_exports(const StageContext& ctx, const extract::Result& r);
+
+}  // namespace volts::pipeline
