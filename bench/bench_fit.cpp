@@ -17,6 +17,7 @@
 #include "extract/extract.h"
 #include "bezier/bspline_volume.h"
 #include "fit/route.h"
+#include "tmesh/optimize.h"
 #include "tmesh/pillow.h"
 #include "models/models.h"
 #include "surface/surface.h"
@@ -57,7 +58,14 @@ int main(int argc, char** argv) {
         mesh = models::make_model(mp);
       }
       const classify::Classification c = classify::classify(mesh, classify::Params{});
-      const fit::Result r = fit::run(mesh, c, params);
+      fit::Result r = fit::run(mesh, c, params);
+      if (std::getenv("VOLTS_BENCH_FIT_OPTIMIZE")) {
+        tmesh::OptimizeParams op;
+        op.sweeps = std::atoi(std::getenv("VOLTS_BENCH_FIT_OPTIMIZE"));
+        const auto o = tmesh::optimize(r.solids, op);
+        std::printf("  optimize: min %.3f -> %.3f, invalid %d -> %d, %d nodes, %s\n", o.min_before, o.min_after, o.invalid_before, o.invalid_after,
+                    o.nodes_moved, o.stop_reason.c_str());
+      }
       const extract::Result e = extract::extract(r.solids, mesh, extract::Params{});
       const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::printf("%-11s %8zu %6d %9.3f %9.3f %9.2e %9.2e %9.2f %8.1f %8.1f %8.1f\n", name.c_str(), e.hexes.size(), e.certified_valid,

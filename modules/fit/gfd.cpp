@@ -7,7 +7,9 @@
 #include <map>
 #include <set>
 
+#include "bezier/bezier_hex.h"
 #include "bezier/bspline.h"
+#include "bezier/certify.h"
 #include "core/errors.h"
 #include "core/log.h"
 #include "fit/net.h"
@@ -39,6 +41,11 @@ struct State {
   std::vector<SolidNet> nets;           // per solid
   std::vector<char> all_valid;          // per solid: its net satisfied Proposition 3 initially (then moves keep it)
   const std::function<void(const std::vector<SolidNet>&)>* observer = nullptr;
+  // Solids whose net fails Proposition 3: extraction operators per axis and the certified result
+  // of every element (index element_index()).
+  std::vector<std::array<std::vector<Eigen::MatrixXd>, 3>> extraction;
+  std::vector<std::vector<bezier::CertifyResult>> certified;
+  bezier::CertifyParams certify;
 
   void set(int id, const Vector3d& x) {
     pos[static_cast<std::size_t>(id)] = x;
@@ -74,33 +81,94 @@ State make_state(const std::vector<tmesh::TMesh>& solids) {
   return s;
 }
 
+// Bézier element e (per-axis element indices) of solid b: C^T·P per direction (bspline.h).
+bezier::BezierHex element(const State& s, int b, const std::array<int, 3>& e) {
+  const auto& net = s.nets[static_cast<std::size_t>(b)];
+  const auto& ops = s.extraction[static_cast<std::size_t>(b)];
+  const int p = s.degree, n = p + 1;
+  bezier::BezierHex h;
+  h.degree = {p, p, p};
+  h.points.assign(static_cast<std::size_t>(n * n * n), Vector3d::Zero());
+  const Eigen::MatrixXd& C0 = ops[0][static_cast<std::size_t>(e[0])];
+  const Eigen::MatrixXd& C1 = ops[1][static_cast<std::size_t>(e[1])];
+  const Eigen::MatrixXd& C2 = ops[2][static_cast<std::size_t>(e[2])];
+  // Open uniform knots: element e is supported by control points e..e+p along each axis.
+  for (int c = 0; c <= p; ++c)
+    for (int bb = 0; bb <= p; ++bb)
+      for (int a = 0; a <= p; ++a) {
+        const Vector3d& x = net.at(e[0] + a, e[1] + bb, e[2] + c);
+        for (int k = 0; k <= p; ++k) {
+          const double wk = C2(c, k);
+          if (wk == 0) continue;
+          for (int j = 0; j <= p; ++j) {
+            const double wj = wk * C1(bb, j);
+            if (wj == 0) continue;
+            for (int i = 0; i <= p; ++i) {
+              const double w = wj * C0(a, i);
+              if (w != 0) h.points[static_cast<std::size_t>(h.index(i, j, k))] += w * x;
+            }
+          }
+        }
+      }
+  return h;
+}
+
+// Elements of solid b whose support holds control point ijk (per axis e in [ijk − p, ijk]).
+std::vector<std::array<int, 3>> elements_at(const State& s, int b, const std::array<int, 3>& ijk) {
+  const auto& net = s.nets[static_cast<std::size_t>(b)];
+  std::array<std::pair<int, int>, 3> range;
+  for (int a = 0; a < 3; ++a) range[a] = {std::max(0, ijk[a] - s.degree), std::min(net.size[a] - s.degree - 1, ijk[a])};
+  std::vector<std::array<int, 3>> out;
+  for (int k = range[2].first; k <= range[2].second; ++k)
+    for (int j = range[1].first; j <= range[1].second; ++j)
+      for (int i = range[0].first; i <= range[0].second; ++i) out.push_back({i, j, k});
+  return out;
+}
+
+int element_index(const State& s, int b, const std::array<int, 3>& e) {
+  const auto& net = s.nets[static_cast<std::size_t>(b)];
+  const int n0 = net.size[0] - s.degree, n1 = net.size[1] - s.degree;
+  return e[0] + n0 * (e[1] + n1 * e[2]);
+}
+
 // Moves point `id` by up to `delta` inside the feasible region: μ = 1, 1/2, ... Returns the
-// applied displacement's length, or -1 if every trial was refused.
+// applied displacement's length, or -1 if every trial was refused. The region, per solid holding
+// the point: Proposition 3 on the sub-grids around it if the solid's net satisfied it initially;
+// else every element around it certified valid stays so and no other element's certified lower
+// bound of det J falls.
 double feasible_move(State& s, int id, const Vector3d& delta, int halvings, bool* shortened) {
   const auto& refs = s.refs[static_cast<std::size_t>(id)];
-  struct Before {
-    int failures = 0;
-    double margin = 0;
-  };
-  std::vector<Before> before(refs.size());
-  ValidityParams vp;
-  for (std::size_t r = 0; r < refs.size(); ++r) {
-    if (s.all_valid[static_cast<std::size_t>(refs[r].block)]) continue;
-    const Validity v = check_solid_near(s.nets[static_cast<std::size_t>(refs[r].block)], refs[r].ijk, vp);
-    before[r] = {v.failures, v.margin};
-  }
   const Vector3d start = s.pos[static_cast<std::size_t>(id)];
+  std::vector<std::vector<bezier::CertifyResult>> trial(refs.size());
   double mu = 1;
   for (int h = 0; h <= halvings; ++h, mu *= 0.5) {
     s.set(id, start + mu * delta);
     bool ok = true;
     for (std::size_t r = 0; r < refs.size() && ok; ++r) {
-      ValidityParams p;
-      p.stop_at_first_failure = before[r].failures == 0;
-      const Validity v = check_solid_near(s.nets[static_cast<std::size_t>(refs[r].block)], refs[r].ijk, p);
-      ok = before[r].failures == 0 ? v.valid : v.failures <= before[r].failures && v.margin >= before[r].margin;
+      const int b = refs[r].block;
+      if (s.all_valid[static_cast<std::size_t>(b)]) {
+        ValidityParams p;
+        p.stop_at_first_failure = true;
+        ok = check_solid_near(s.nets[static_cast<std::size_t>(b)], refs[r].ijk, p).valid;
+        continue;
+      }
+      trial[r].clear();
+      for (const auto& e : elements_at(s, b, refs[r].ijk)) {
+        const bezier::CertifyResult& old = s.certified[static_cast<std::size_t>(b)][static_cast<std::size_t>(element_index(s, b, e))];
+        const bezier::CertifyResult now = bezier::certify(element(s, b, e), s.certify);
+        ok = old.status == bezier::Validity::valid ? now.status == bezier::Validity::valid : now.min_detj_lower >= old.min_detj_lower;
+        if (!ok) break;
+        trial[r].push_back(now);
+      }
     }
     if (ok) {
+      for (std::size_t r = 0; r < refs.size(); ++r) {
+        const int b = refs[r].block;
+        if (s.all_valid[static_cast<std::size_t>(b)]) continue;
+        std::size_t i = 0;
+        for (const auto& e : elements_at(s, b, refs[r].ijk))
+          s.certified[static_cast<std::size_t>(b)][static_cast<std::size_t>(element_index(s, b, e))] = trial[r][i++];
+      }
       if (s.observer) (*s.observer)(s.nets);
       *shortened = h > 0;
       return (mu * delta).norm();
@@ -472,9 +540,28 @@ GfdReport fit_solids(std::vector<tmesh::TMesh>& solids, const Map& map, const Gf
   Eigen::AlignedBox3d box;
   for (const auto& x : s.pos) box.extend(x);
   const double diag = std::max(box.diagonal().norm(), 1e-300);
-  for (const auto& net : s.nets) {
-    const Validity v = check_solid(net);
+  s.extraction.resize(s.nets.size());
+  s.certified.resize(s.nets.size());
+  for (std::size_t b = 0; b < s.nets.size(); ++b) {
+    const Validity v = check_solid(s.nets[b]);
     s.all_valid.push_back(v.valid);
+    if (v.valid) continue;
+    // Proposition 3 is only sufficient; where it fails the certified Bernstein check of det J
+    // (bezier::certify) guards the moves instead.
+    const auto& t = solids[b];
+    for (int a = 0; a < 3; ++a) s.extraction[b][static_cast<std::size_t>(a)] = bezier::extraction_operators(t.knots[static_cast<std::size_t>(a)], t.degree);
+    const int n0 = t.size[0] - t.degree, n1 = t.size[1] - t.degree, n2 = t.size[2] - t.degree;
+    int valid = 0;
+    for (int k = 0; k < n2; ++k)
+      for (int j = 0; j < n1; ++j)
+        for (int i = 0; i < n0; ++i) {
+          s.certified[b].push_back(bezier::certify(element(s, static_cast<int>(b), {i, j, k}), s.certify));
+          valid += s.certified[b].back().status == bezier::Validity::valid;
+        }
+    core::log_warning("fit: the initial net of solid " + std::to_string(b) + " fails the validity condition (Prop. 3) on " +
+                      std::to_string(v.failures) + " of " + std::to_string(v.checked) + " sub-grids; its moves keep the " +
+                      std::to_string(valid) + " of " + std::to_string(s.certified[b].size()) +
+                      " elements certified valid (det J > 0 by Bernstein coefficients) valid instead");
   }
   totals(s, &rep.initial_failing_subgrids, &rep.initial_margin);
   const std::vector<Face> faces = common_faces(s);

@@ -5,17 +5,22 @@
 // common faces is improved the same way (Proposition 4).
 //
 // A phase works on the curves (block edges), surfaces (block faces) or interiors of the solids.
-// Each sweep computes the residuals r_j = Q_j − X(t_j) at dense data points (the map at uniformly
-// spaced parameters of the curve, face or solid) and moves every free control point of the phase
-// along the progressive-iterative-approximation direction Δ_i = Σ_j N_i(t_j) r_j / Σ_j N_i(t_j)
-// (LSPIA, Deng & Lin 2014). A move μΔ starts with μ = 1 and is halved until the control nets of
-// every solid holding the point still satisfy Proposition 3 on the sub-grids around it (the
-// paper's feasible region; Proposition 3 implies det J > 0, so the curves and surfaces of a valid
-// solid are regular too and Propositions 1–2 are not imposed separately — Proposition 2 as printed
-// also rejects valid grids, validity.h). Sub-grids that fail Proposition 3 already in the initial
-// nets (possible: the condition is only sufficient) may not get worse: their count around the
-// point may not grow and the smallest triple product may not fall. Block corners (the cube's and
-// Ω_c's vertices) stay where the map puts them.
+// Each sweep moves every free control point of the phase toward a target: for curves and surfaces
+// the least-squares fit of the map's points on it with the other control points held (so a
+// feasible full step solves the phase at once), for the solids' interiors the progressive
+// iterative approximation direction Δ_i = Σ_j N_i(t_j) r_j / Σ_j N_i(t_j) (LSPIA, Deng & Lin 2014;
+// damped, it keeps interior nets smooth instead of chasing the piecewise-linear map). A move μΔ
+// starts with μ = 1 and is halved until it lies in the feasible region of every solid holding
+// the point:
+// * a solid whose initial net satisfies Proposition 3: the sub-grids around the point still do
+//   (the paper's region; Proposition 3 implies det J > 0, so the solid's curves and surfaces are
+//   regular too and Propositions 1–2 are not imposed separately — Proposition 2 as printed also
+//   rejects valid grids, validity.h);
+// * a solid whose initial net fails it somewhere (it is only sufficient: on a distorted map most
+//   sub-grids can fail while every element is valid): every Bézier element around the point that
+//   is certified valid (bezier::certify, det J > 0 by Bernstein coefficients) stays so, and no
+//   other element's certified lower bound of det J falls.
+// Block corners (the cube's and Ω_c's vertices) stay where the map puts them.
 #pragma once
 
 #include <functional>
