@@ -40,6 +40,8 @@ struct State {
   std::vector<std::vector<Ref>> refs;   // per function id: every solid holding it
   std::vector<SolidNet> nets;           // per solid
   std::vector<char> all_valid;          // per solid: its net satisfied Proposition 3 initially (then moves keep it)
+  std::vector<double> tolerance;        // per such solid: the margin its moves keep (ValidityParams::tolerance)
+  double margin_floor = 1e-3;           // GfdParams::min_margin
   const std::function<void(const std::vector<SolidNet>&)>* observer = nullptr;
   // Solids whose net fails Proposition 3: extraction operators per axis and the certified result
   // of every element (index element_index()).
@@ -149,6 +151,7 @@ double feasible_move(State& s, int id, const Vector3d& delta, int halvings, bool
       if (s.all_valid[static_cast<std::size_t>(b)]) {
         ValidityParams p;
         p.stop_at_first_failure = true;
+        p.tolerance = s.tolerance[static_cast<std::size_t>(b)];
         ok = check_solid_near(s.nets[static_cast<std::size_t>(b)], refs[r].ijk, p).valid;
         continue;
       }
@@ -156,7 +159,10 @@ double feasible_move(State& s, int id, const Vector3d& delta, int halvings, bool
       for (const auto& e : elements_at(s, b, refs[r].ijk)) {
         const bezier::CertifyResult& old = s.certified[static_cast<std::size_t>(b)][static_cast<std::size_t>(element_index(s, b, e))];
         const bezier::CertifyResult now = bezier::certify(element(s, b, e), s.certify);
-        ok = old.status == bezier::Validity::valid ? now.status == bezier::Validity::valid : now.min_detj_lower >= old.min_detj_lower;
+        ok = old.status == bezier::Validity::valid
+                 ? now.status == bezier::Validity::valid &&
+                       now.min_detj_lower >= std::min(old.min_detj_lower, s.margin_floor * std::abs(now.mean_detj))
+                 : now.min_detj_lower >= old.min_detj_lower;
         if (!ok) break;
         trial[r].push_back(now);
       }
@@ -533,6 +539,7 @@ GfdReport fit_solids(std::vector<tmesh::TMesh>& solids, const Map& map, const Gf
   if (!(params.stop_rel >= 0 && params.stop_rel < 1)) throw core::ConfigError("fit.stop_rel must be in [0, 1)");
   if (params.halvings < 0 || params.halvings > 30) throw core::ConfigError("fit.halvings must be in [0, 30]");
   if (params.g1_sweeps < 0 || params.g1_sweeps > 1000) throw core::ConfigError("fit.g1_sweeps must be in [0, 1000]");
+  if (!(params.min_margin >= 0 && params.min_margin < 1)) throw core::ConfigError("fit: min_margin must be in [0, 1)");
   if (solids.empty()) throw core::InvalidInputError("fit: no solids");
   GfdReport rep;
   State s = make_state(solids);
@@ -542,9 +549,13 @@ GfdReport fit_solids(std::vector<tmesh::TMesh>& solids, const Map& map, const Gf
   const double diag = std::max(box.diagonal().norm(), 1e-300);
   s.extraction.resize(s.nets.size());
   s.certified.resize(s.nets.size());
+  s.margin_floor = params.min_margin;
   for (std::size_t b = 0; b < s.nets.size(); ++b) {
     const Validity v = check_solid(s.nets[b]);
     s.all_valid.push_back(v.valid);
+    // A margin, not just validity: moves would otherwise drive the triple products to the
+    // rounding tolerance, where a re-export of the points could flip the verdict.
+    s.tolerance.push_back(v.valid ? std::max(ValidityParams{}.tolerance, std::min(params.min_margin, 0.5 * v.margin)) : 0.0);
     if (v.valid) continue;
     // Proposition 3 is only sufficient; where it fails the certified Bernstein check of det J
     // (bezier::certify) guards the moves instead.

@@ -38,6 +38,10 @@ struct GfdParams {
   double stop_rel = 1e-7;   ///< a phase stops when no point moves more than this × the bounding-box diagonal [0, 1)
   int halvings = 6;         ///< halvings of a move before it is refused [0, 30]
   int g1_sweeps = 20;       ///< sweeps of the smoothness improvement across common faces [0, 1000]
+  /// Moves keep this margin [0, 1): Proposition 3's triple products of unit vectors stay above
+  /// min(min_margin, half the solid's initial margin); a certified-valid element's lower bound of
+  /// det J stays above min(its value before, min_margin × its mean det J).
+  double min_margin = 1e-3;
   /// Called with the nets of all solids after every accepted move (tests check the validity
   /// condition at every iteration); empty = none.
   std::function<void(const std::vector<SolidNet>&)> observer;
@@ -70,8 +74,12 @@ struct Interface {
 struct GfdReport {
   std::vector<PhaseReport> phases;
   int initial_failing_subgrids = 0;  ///< Proposition 3 failures of the initial nets
-  int final_failing_subgrids = 0;    ///< and at the end (never more, by construction)
+  /// and at the end: 0 in the solids whose initial nets had none; the others (guarded by their
+  /// certified elements instead) may have more
+  int final_failing_subgrids = 0;
   double initial_margin = 0, final_margin = 0;  ///< min T^u·(T^v × T^w) over all sub-grids (validity.h margin)
+  /// G1 defects of the initial nets (before any fitting) and at the end; the g1 phase's own
+  /// before figures are after the fitting phases
   std::vector<Interface> g1_before, g1_after;
 };
 

@@ -268,8 +268,54 @@ TEST(Pipeline, CorruptTorusStageFilesAreRefusedNamingTheFile) {
   }
 }
 
+// Route fit (Lin, Huang & Hu 2018): classify, then volts-fit — a smooth sphere is segmented into
+// six patches, mapped onto the cube, pillowed into seven solids, fitted with every move valid.
+TEST(Pipeline, FitRouteRunsASphereEndToEnd) {
+  const fs::path d = test::fresh_dir("pipeline", "fit_run");
+  test::write_text(d / "run.yaml", "route: fit\ninput: {generate: sphere, resolution: 48}\nfit: {elements: 3}\n");
+  const std::string cmd = test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string();
+  const test::Outcome r = test::run(cmd);
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"classify.stage.json", "fit.stage.json", "fit_patches.vtp", "fit_tets.vtu", "fit_tets_mapped.vtu", "fit.vtu",
+                        "bezier.vtu", "bezier.bext", "bezier.k", "bezier.json", "bezier.msh", "scaled_jacobian_histogram.png"})
+    EXPECT_TRUE(fs::exists(d / "w" / f)) << f;
+  EXPECT_FALSE(fs::exists(d / "w" / "split.stage.json"));
+  const core::Json rep = core::read_report((d / "w").string());
+  const core::Json& f = rep["stages"]["fit"];
+  EXPECT_EQ(f["patch_source"], "segmentation");  // a sphere has no sharp curves
+  EXPECT_EQ(f["solids"], 7);
+  EXPECT_EQ(f["bezier_elements"], 7 * 27);
+  EXPECT_EQ(f["certified_valid"], f["bezier_elements"]);
+  EXPECT_EQ(f["flipped_tets"], 0);
+  EXPECT_LE(f["final_failing_subgrids"].get<int>(), f["initial_failing_subgrids"].get<int>());
+  EXPECT_GE(f["volume_frac_scaled_jacobian_above_0_5"].get<double>(), 0.8);
+  EXPECT_LT(f["hausdorff_rel"].get<double>(), 0.005);
+  EXPECT_LT(f["volume_rel_error"].get<double>(), 0.005);
+  EXPECT_LT(f["partition_of_unity_error"].get<double>(), 1e-12);
+  EXPECT_LE(f["g1_max_angle_deg_after"].get<double>(), f["g1_max_angle_deg_before"].get<double>());
+  ASSERT_EQ(f["phases"].size(), 4u);
+  for (int i = 0; i < 2; ++i)  // curves, surfaces: least-squares targets never end worse than they start
+    EXPECT_LE(f["phases"][i]["rms_after"].get<double>(), f["phases"][i]["rms_before"].get<double>() + 1e-15) << f["phases"][i]["name"];
+  // Resuming at fit reuses classify.stage.json and gives the same elements.
+  const test::Outcome again = test::run(cmd + " --from fit");
+  ASSERT_EQ(again.code, 0) << again.output;
+  EXPECT_EQ(core::read_report((d / "w").string())["stages"]["fit"]["hausdorff_rel"], f["hausdorff_rel"]);
+}
+
+TEST(Pipeline, FitRouteRefusesATorusNamingItsGenus) {
+  const fs::path d = test::fresh_dir("pipeline", "fit_torus");
+  test::write_text(d / "run.yaml", "route: fit\ninput: {generate: torus, resolution: 12}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("genus 1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--from fit"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "w" / "fit.stage.json"));
+  EXPECT_FALSE(fs::exists(d / "w" / "bezier.vtu"));
+}
+
 TEST(Pipeline, EveryExecutableHasHelp) {
-  for (const char* t : {"volts", "volts-check", "volts-classify", "volts-split", "volts-polycube", "volts-tmesh", "volts-extract", "volts-make-model"}) {
+  for (const char* t : {"volts", "volts-check", "volts-classify", "volts-split", "volts-polycube", "volts-tmesh", "volts-extract", "volts-fit",
+                        "volts-make-model"}) {
     const test::Outcome r = test::run(test::bin(t) + " --help");
     EXPECT_EQ(r.code, 0) << t;
     EXPECT_NE(r.output.find("usage"), std::string::npos) << t << ": " << r.output;
