@@ -261,6 +261,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("weights", f.cube.weights, {"mean-value", "uniform"});
     s.get("tet_max_volume_rel", f.cube.tet_max_volume_rel, 1e-6, 1.0);
     s.get("segmentation_smoothness", f.cube.segmentation.smoothness, 0.0, 10.0);
+    s.get("optimize_sweeps", f.optimize_sweeps, 0, 100);
     s.finish();
   }
   top.finish();
@@ -396,7 +397,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "halvings" << YAML::Value << f.gfd.halvings;
   e << YAML::Key << "weights" << YAML::Value << f.cube.weights;
   e << YAML::Key << "tet_max_volume_rel" << YAML::Value << f.cube.tet_max_volume_rel;
-  e << YAML::Key << "segmentation_smoothness" << YAML::Value << f.cube.segmentation.smoothness << YAML::EndMap;
+  e << YAML::Key << "segmentation_smoothness" << YAML::Value << f.cube.segmentation.smoothness;
+  e << YAML::Key << "optimize_sweeps" << YAML::Value << f.optimize_sweeps << YAML::EndMap;
   e << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }

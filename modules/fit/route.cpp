@@ -33,6 +33,14 @@ Result run(const surface::Mesh& mesh, const classify::Classification& c, const P
     r.solids = initial_solids(map, params.pillow);
   }
   r.gfd = fit_solids(r.solids, map, params.gfd);
+  r.optimization.stop_reason = "disabled";
+  if (params.optimize_sweeps > 0) {
+    core::LogSection s("optimization of the worst Jacobian");
+    tmesh::OptimizeParams op;
+    op.sweeps = params.optimize_sweeps;
+    op.gauss_points = params.pillow.degree + 1;  // extract's sample
+    r.optimization = tmesh::optimize(r.solids, op);
+  }
   r.time_fit_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
@@ -72,6 +80,11 @@ core::Json report_figures(const Result& r) {
           {"g1", g1},
           {"g1_max_angle_deg_before", before},
           {"g1_max_angle_deg_after", after},
+          {"optimization", {{"sweeps", r.optimization.sweeps}, {"nodes_moved", r.optimization.nodes_moved},
+                            {"bezier_min_scaled_jacobian_before", r.optimization.min_before},
+                            {"bezier_min_scaled_jacobian_after", r.optimization.min_after},
+                            {"not_certified_valid_before", r.optimization.invalid_before},
+                            {"not_certified_valid_after", r.optimization.invalid_after}, {"stop_reason", r.optimization.stop_reason}}},
           {"time_map_s", r.time_map_s},
           {"time_fit_s", r.time_fit_s}};
 }

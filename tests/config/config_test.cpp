@@ -1,6 +1,8 @@
 // The YAML config: defaults, every documented key, and clear errors naming the key path.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "config/config.h"
 #include "core/errors.h"
 
@@ -104,7 +106,8 @@ TEST(Config, FitRouteSection) {
   EXPECT_EQ(file.fit.cube.weights, builtin.fit.cube.weights);
   EXPECT_DOUBLE_EQ(file.fit.cube.tet_max_volume_rel, builtin.fit.cube.tet_max_volume_rel);
   EXPECT_DOUBLE_EQ(file.fit.cube.segmentation.smoothness, builtin.fit.cube.segmentation.smoothness);
-  const auto c = config::parse_config("route: fit\nfit: {elements: 6, degree: 4, sweeps: 5, weights: uniform, segmentation_smoothness: 1.5}\n", "t");
+  EXPECT_EQ(file.fit.optimize_sweeps, builtin.fit.optimize_sweeps);
+  const auto c = config::parse_config("route: fit\nfit: {elements: 6, degree: 4, sweeps: 5, weights: uniform, segmentation_smoothness: 1.5, optimize_sweeps: 7}\n", "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");
   EXPECT_EQ(d.route, "fit");
   EXPECT_EQ(d.fit.pillow.elements, 6);
@@ -112,10 +115,24 @@ TEST(Config, FitRouteSection) {
   EXPECT_EQ(d.fit.gfd.sweeps, 5);
   EXPECT_EQ(d.fit.cube.weights, "uniform");
   EXPECT_DOUBLE_EQ(d.fit.cube.segmentation.smoothness, 1.5);
+  EXPECT_EQ(d.fit.optimize_sweeps, 7);
   EXPECT_NE(config_error("fit: {elements: 0}\n").find("fit.elements: 0 is out of range [1, 32]"), std::string::npos);
   EXPECT_NE(config_error("fit: {degree: 1}\n").find("fit.degree: 1 is out of range [2, 5]"), std::string::npos);
   EXPECT_NE(config_error("fit: {weights: cotan}\n").find("fit.weights"), std::string::npos);
   EXPECT_NE(config_error("fit: {element: 2}\n").find("unknown key 'fit.element'"), std::string::npos);
+}
+
+// Every config the project ships (configs/, examples/) passes the strict checks: a renamed key or a
+// value out of range there would stop a user's first run.
+TEST(Config, EveryShippedConfigLoads) {
+  int n = 0;
+  for (const char* dir : {"configs", "examples"})
+    for (const auto& e : std::filesystem::directory_iterator(std::string(VOLTS_SOURCE_DIR) + "/" + dir)) {
+      if (e.path().extension() != ".yaml") continue;
+      EXPECT_NO_THROW(config::load_config(e.path().string())) << e.path();
+      ++n;
+    }
+  EXPECT_GE(n, 10);
 }
 
 TEST(Config, MissingFileIsInvalidInput) {
