@@ -3,7 +3,8 @@
 // and quality figures, printed against the targets (all seven solids certified valid,
 // scaled Jacobian > 0.5 on >= 80 % of the volume, hausdorff_rel <= 0.005) with the G1 defect.
 // Usage: bench_fit [--models sphere,bulged-box,fandisk] [--elements N] [--sweeps N] [--g1-sweeps N]
-//                  [--resolution N] [--optimize SWEEPS] [--tet-max-volume-rel X]; VOLTS_BENCH_FIT_VERBOSE=1 adds
+//                  [--resolution N] [--optimize SWEEPS] [--tet-max-volume-rel X]
+//                  [--smoothness X] [--weights mean-value|uniform]; VOLTS_BENCH_FIT_VERBOSE=1 adds
 //                  the worst boundary element and the whole fit report per model.
 // Models: generated names (volts-make-model --list) or `fandisk` (../shared/models/c3d_fandisk.obj).
 #include <chrono>
@@ -38,6 +39,8 @@ int main(int argc, char** argv) {
     else if (a == "--g1-sweeps") params.gfd.g1_sweeps = std::stoi(v);
     else if (a == "--resolution") resolution = std::stoi(v);
     else if (a == "--optimize") params.optimize_sweeps = std::stoi(v);
+    else if (a == "--smoothness") params.cube.segmentation.smoothness = std::stod(v);
+    else if (a == "--weights") params.cube.weights = v;
     else if (a == "--tet-max-volume-rel") params.cube.tet_max_volume_rel = std::stod(v);
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());

@@ -521,6 +521,64 @@ PhaseReport g1_phase(State& s, const std::vector<Face>& faces, const GfdParams& 
   return ph;
 }
 
+// Elements of the solids guarded by certification that are not certified valid: their control
+// points (block corners excepted) move toward the mean of their neighbours along the free axes of
+// their curve, face or interior (Laplacian smoothing untangles; face and curve points stay on
+// their face or curve's net), each move in the feasible region: raising the element's certified
+// lower bound of det J or leaving every bound where it was (the feasible
+// region never lets one fall). Stops after a sweep without progress on an element.
+PhaseReport repair_phase(State& s, const GfdParams& params) {
+  PhaseReport ph;
+  ph.name = "repair";
+  const auto invalid = [&]() {
+    int n = 0;
+    for (const auto& list : s.certified)
+      for (const auto& c : list) n += c.status != bezier::Validity::valid;
+    return n;
+  };
+  ph.rms_before = ph.max_before = invalid();
+  for (ph.sweeps = 0; ph.sweeps < params.repair_sweeps && invalid() > 0;) {
+    ++ph.sweeps;
+    int moved = 0;
+    for (std::size_t b = 0; b < s.certified.size(); ++b) {
+      const auto& net = s.nets[b];
+      const int n0 = net.size[0] - s.degree, n1 = net.size[1] - s.degree;
+      for (std::size_t ei = 0; ei < s.certified[b].size(); ++ei) {
+        if (s.certified[b][ei].status == bezier::Validity::valid) continue;
+        const std::array<int, 3> e{static_cast<int>(ei) % n0, (static_cast<int>(ei) / n0) % n1, static_cast<int>(ei) / (n0 * n1)};
+        for (int c = 0; c <= s.degree; ++c)
+          for (int bb = 0; bb <= s.degree; ++bb)
+            for (int a = 0; a <= s.degree; ++a) {
+              const std::array<int, 3> ijk{e[0] + a, e[1] + bb, e[2] + c};
+              const int id = (*s.solids)[b].function_ids[static_cast<std::size_t>(net.index(ijk[0], ijk[1], ijk[2]))];
+              Vector3d mean = Vector3d::Zero();
+              int count = 0;
+              for (int ax = 0; ax < 3; ++ax) {
+                if (ijk[ax] == 0 || ijk[ax] == net.size[ax] - 1) continue;  // fixed axis: stay on the face or curve
+                for (const int step : {-1, 1}) {
+                  std::array<int, 3> nb = ijk;
+                  nb[ax] += step;
+                  mean += net.at(nb[0], nb[1], nb[2]), ++count;
+                }
+              }
+              if (count == 0) continue;  // a block corner
+              const double before = s.certified[b][ei].min_detj_lower;
+              bool shortened = false;
+              if (feasible_move(s, id, mean / count - s.pos[static_cast<std::size_t>(id)], params.halvings, &shortened) < 0) {
+                ++ph.refused;
+                continue;
+              }
+              ++ph.moves, ph.shortened += shortened;
+              if (s.certified[b][ei].min_detj_lower > before) ++moved;  // progress on this element
+            }
+      }
+    }
+    if (moved == 0) break;
+  }
+  ph.rms_after = ph.max_after = invalid();
+  return ph;
+}
+
 void totals(const State& s, int* failures, double* margin) {
   *failures = 0;
   *margin = std::numeric_limits<double>::infinity();
@@ -540,6 +598,7 @@ GfdReport fit_solids(std::vector<tmesh::TMesh>& solids, const Map& map, const Gf
   if (params.halvings < 0 || params.halvings > 30) throw core::ConfigError("fit.halvings must be in [0, 30]");
   if (params.g1_sweeps < 0 || params.g1_sweeps > 1000) throw core::ConfigError("fit.g1_sweeps must be in [0, 1000]");
   if (!(params.min_margin >= 0 && params.min_margin < 1)) throw core::ConfigError("fit: min_margin must be in [0, 1)");
+  if (params.repair_sweeps < 0 || params.repair_sweeps > 1000) throw core::ConfigError("fit.repair_sweeps must be in [0, 1000]");
   if (solids.empty()) throw core::InvalidInputError("fit: no solids");
   GfdReport rep;
   State s = make_state(solids);
@@ -595,6 +654,14 @@ GfdReport fit_solids(std::vector<tmesh::TMesh>& solids, const Map& map, const Gf
               " degrees, " + std::to_string(ph.moves) + " moves, " + std::to_string(ph.refused) + " refused");
   }
   rep.g1_after = measure(s, faces);
+  if (params.repair_sweeps > 0) {
+    core::LogSection sec("fit repair");
+    rep.phases.push_back(repair_phase(s, params));
+    const auto& ph = rep.phases.back();
+    if (ph.max_before > 0)
+      core::log("elements not certified valid " + std::to_string(static_cast<int>(ph.max_before)) + " -> " +
+                std::to_string(static_cast<int>(ph.max_after)) + ", " + std::to_string(ph.moves) + " moves");
+  }
   totals(s, &rep.final_failing_subgrids, &rep.final_margin);
   for (auto& t : solids)
     for (std::size_t i = 0; i < t.control_points.size(); ++i) {

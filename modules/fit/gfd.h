@@ -42,6 +42,11 @@ struct GfdParams {
   /// min(min_margin, half the solid's initial margin); a certified-valid element's lower bound of
   /// det J stays above min(its value before, min_margin × its mean det J).
   double min_margin = 1e-3;
+  /// Sweeps of a last repair phase on elements not certified valid (in solids guarded by
+  /// certification): their control points move toward their neighbours' mean inside the feasible
+  /// region; stops after a sweep that raised no such element's certified lower bound of det J
+  /// [0, 1000]; 0 = none.
+  int repair_sweeps = 10;
   /// Called with the nets of all solids after every accepted move (tests check the validity
   /// condition at every iteration); empty = none.
   std::function<void(const std::vector<SolidNet>&)> observer;
@@ -50,7 +55,7 @@ struct GfdParams {
 /// What one phase did. Errors are distances |Q_j − X(t_j)| over the phase's data points,
 /// relative to the bounding-box diagonal of the solids' control points.
 struct PhaseReport {
-  std::string name;   ///< "curves", "surfaces", "solids" or "g1"
+  std::string name;   ///< "curves", "surfaces", "solids", "g1" or "repair" (its before/after: elements not certified valid)
   int points = 0;     ///< control points the phase may move
   int sweeps = 0;
   int moves = 0;      ///< accepted moves (full or shortened)

@@ -103,6 +103,7 @@ TEST(Config, FitRouteSection) {
   EXPECT_EQ(file.fit.gfd.sweeps, builtin.fit.gfd.sweeps);
   EXPECT_EQ(file.fit.gfd.g1_sweeps, builtin.fit.gfd.g1_sweeps);
   EXPECT_EQ(file.fit.gfd.halvings, builtin.fit.gfd.halvings);
+  EXPECT_EQ(file.fit.gfd.repair_sweeps, builtin.fit.gfd.repair_sweeps);
   EXPECT_EQ(file.fit.cube.weights, builtin.fit.cube.weights);
   EXPECT_DOUBLE_EQ(file.fit.cube.tet_max_volume_rel, builtin.fit.cube.tet_max_volume_rel);
   EXPECT_DOUBLE_EQ(file.fit.cube.segmentation.smoothness, builtin.fit.cube.segmentation.smoothness);

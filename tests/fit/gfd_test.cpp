@@ -417,7 +417,7 @@ TEST(GfdAffine, FittingPhasesLeaveAnExactFitUnchanged) {
   GfdParams gp;
   gp.g1_sweeps = 0;
   const GfdReport rep = fit_solids(solids, affine, gp);
-  ASSERT_EQ(rep.phases.size(), 4u);
+  ASSERT_EQ(rep.phases.size(), 5u);  // curves, surfaces, solids, g1, repair
   for (const auto& p : rep.phases) {
     if (p.name == "g1") continue;
     EXPECT_LT(p.max_before, 1e-14) << p.name;
