@@ -9,6 +9,7 @@
 #include "core/errors.h"
 #include "core/log.h"
 #include "models/models.h"
+#include "surface/mesh_json.h"
 
 namespace fs = std::filesystem;
 
@@ -96,6 +97,17 @@ void check_integer_members(const std::string& file, const core::Json& j) {
         if (item.contains(k)) check_integers(file, std::string(payload) + "." + list + "[]." + k, item[k]);
     }
   }
+}
+
+ClassifyInput read_classify_input(const StageContext& ctx) {
+  ClassifyInput in;
+  in.file = ctx.input_file("classify");
+  in.json = core::read_stage_file(in.file, "volts-classify", 1);
+  check_integer_members(in.file, in.json);
+  in.mesh = surface::mesh_from_json(core::require(in.json, "surface", in.file), in.file);
+  in.classification = classify::from_json(core::require(in.json, "classification", in.file), in.file);
+  check_classification(in.file, in.mesh, in.classification);
+  return in;
 }
 
 void check_classification(const std::string& file, const surface::Mesh& mesh, const classify::Classification& c) {

@@ -48,6 +48,17 @@ void check_decomposition(const std::string& file, const classify::Classification
 void check_polycube(const std::string& file, const surface::Mesh& mesh, const classify::Classification& c,
                     const polycube::Polycube& p);
 
+/// classify.stage.json as the stages after classify read it (split, fit): the file's JSON (its
+/// payloads are passed on unchanged), the surface and the classification, cross-checked.
+struct ClassifyInput {
+  std::string file;
+  core::Json json;
+  surface::Mesh mesh;
+  classify::Classification classification;
+};
+/// Throws what read_stage_file, check_integer_members and check_classification throw.
+ClassifyInput read_classify_input(const StageContext& ctx);
+
 /// Parses `--config FILE --workdir DIR --input FILE --output FILE -v -q --help`, runs `body`, records
 /// time_s and the body's figures in DIR/report.json, and turns every volts error into
 /// "volts-STAGE: error: ..." on stderr with its exit code. `help` is the stage's one-paragraph

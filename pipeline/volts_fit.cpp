@@ -7,7 +7,6 @@
 #include "exports.h"
 #include "fit/route.h"
 #include "stage_main.h"
-#include "surface/mesh_json.h"
 #include "tmesh/tmesh.h"
 
 using namespace volts;
@@ -23,20 +22,15 @@ int main(int argc, char** argv) {
       "(the six patches), DIR/fit_tets.vtu and DIR/fit_tets_mapped.vtu (the volume map onto the cube),\n"
       "DIR/fit.vtu (control nets as hexes with scaled_jacobian and block), and extract.exports (bezier.vtu, ...).",
       [](pipeline::StageContext& ctx) {
-        const std::string in = ctx.input_file("classify");
-        const core::Json j = core::read_stage_file(in, "volts-classify", 1);
-        pipeline::check_integer_members(in, j);
-        const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
-        const classify::Classification c = classify::from_json(core::require(j, "classification", in), in);
-        pipeline::check_classification(in, mesh, c);
+        const pipeline::ClassifyInput in = pipeline::read_classify_input(ctx);
         pipeline::check_exports(ctx, ctx.config.fit.pillow.degree);
-        const fit::Result r = fit::run(mesh, c, ctx.config.fit);
-        const extract::Result e = extract::extract(r.solids, mesh, ctx.config.extract);
+        const fit::Result r = fit::run(in.mesh, in.classification, ctx.config.fit);
+        const extract::Result e = extract::extract(r.solids, in.mesh, ctx.config.extract);
         {
           core::LogSection s("write fit files");
           core::Json list = core::Json::array();
           for (const auto& t : r.solids) list.push_back(tmesh::to_json(t));
-          core::write_stage_file(ctx.output_file(), "volts-fit", 1, {{"surface", j["surface"]}, {"tmeshes", list}});
+          core::write_stage_file(ctx.output_file(), "volts-fit", 1, {{"surface", in.json["surface"]}, {"tmeshes", list}});
           classify::write_vtp(ctx.path("fit_patches.vtp"), r.cube.mesh, r.cube.patches);
           volmap::write_vtu(ctx.path("fit_tets.vtu"), r.cube.volume);
           volmap::write_parameter_vtu(ctx.path("fit_tets_mapped.vtu"), r.cube.volume);

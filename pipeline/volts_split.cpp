@@ -3,7 +3,6 @@
 #include "core/log.h"
 #include "split/split.h"
 #include "stage_main.h"
-#include "surface/mesh_json.h"
 
 using namespace volts;
 
@@ -13,12 +12,10 @@ int main(int argc, char** argv) {
       "topologically cubes: one cube, a torus as a ring of cubes, or a cube minus a virtual component\n"
       "(a through hole). Input: DIR/classify.stage.json. Output: DIR/split.stage.json, DIR/split.vtp.",
       [](pipeline::StageContext& ctx) {
-        const std::string in = ctx.input_file("classify");
-        const core::Json j = core::read_stage_file(in, "volts-classify", 1);
-        pipeline::check_integer_members(in, j);
-        const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
-        const classify::Classification c = classify::from_json(core::require(j, "classification", in), in);
-        pipeline::check_classification(in, mesh, c);
+        const pipeline::ClassifyInput in = pipeline::read_classify_input(ctx);
+        const core::Json& j = in.json;
+        const surface::Mesh& mesh = in.mesh;
+        const classify::Classification& c = in.classification;
         split::Decomposition d;
         {
           core::LogSection s("decompose");

@@ -248,22 +248,27 @@ std::vector<Entity> entities(const State& s, int dim, const Map& map, int sample
   return out;
 }
 
+// Calls f(local index, weight) for every control point of solid t whose basis function is
+// non-zero at the data point with per-axis basis B.
+template <class F>
+void for_each_support(const tmesh::TMesh& t, const std::array<bezier::BasisValues, 3>& B, F&& f) {
+  const int p = t.degree;
+  for (int c = 0; c <= p; ++c)
+    for (int b = 0; b <= p; ++b)
+      for (int a = 0; a <= p; ++a) {
+        const double w = B[0].values[a] * B[1].values[b] * B[2].values[c];
+        if (w != 0) f((B[0].span - p + a) + t.size[0] * ((B[1].span - p + b) + t.size[1] * (B[2].span - p + c)), w);
+      }
+}
+
 // Residuals of one entity at its data points with the current control points.
 std::vector<Vector3d> residuals(const State& s, const Entity& e) {
   const auto& t = (*s.solids)[static_cast<std::size_t>(e.block)];
   const auto& net = s.nets[static_cast<std::size_t>(e.block)];
-  const int p = t.degree;
   std::vector<Vector3d> r(e.q.size());
   for (std::size_t j = 0; j < e.q.size(); ++j) {
-    const auto& B = e.basis[j];
     Vector3d x = Vector3d::Zero();
-    for (int c = 0; c <= p; ++c)
-      for (int b = 0; b <= p; ++b)
-        for (int a = 0; a <= p; ++a) {
-          const double w = B[0].values[a] * B[1].values[b] * B[2].values[c];
-          if (w == 0) continue;
-          x += w * net.at(B[0].span - p + a, B[1].span - p + b, B[2].span - p + c);
-        }
+    for_each_support(t, e.basis[j], [&](int local, double w) { x += w * net.points[static_cast<std::size_t>(local)]; });
     r[j] = e.q[j] - x;
   }
   return r;
@@ -272,22 +277,14 @@ std::vector<Vector3d> residuals(const State& s, const Entity& e) {
 // LSPIA directions of the entity's free points (indexed like free_local): Δ_i = Σ_j N_i(t_j) r_j / Σ_j N_i(t_j).
 std::vector<Vector3d> lspia_directions(const State& s, const Entity& e) {
   const auto& t = (*s.solids)[static_cast<std::size_t>(e.block)];
-  const int p = t.degree;
   const std::vector<Vector3d> r = residuals(s, e);
   std::vector<Vector3d> num(t.control_points.size(), Vector3d::Zero());
   std::vector<double> den(t.control_points.size(), 0.0);
-  for (std::size_t j = 0; j < e.q.size(); ++j) {
-    const auto& B = e.basis[j];
-    for (int c = 0; c <= p; ++c)
-      for (int b = 0; b <= p; ++b)
-        for (int a = 0; a <= p; ++a) {
-          const double w = B[0].values[a] * B[1].values[b] * B[2].values[c];
-          if (w == 0) continue;
-          const int local = (B[0].span - p + a) + t.size[0] * ((B[1].span - p + b) + t.size[1] * (B[2].span - p + c));
-          num[static_cast<std::size_t>(local)] += w * r[j];
-          den[static_cast<std::size_t>(local)] += w;
-        }
-  }
+  for (std::size_t j = 0; j < e.q.size(); ++j)
+    for_each_support(t, e.basis[j], [&](int local, double w) {
+      num[static_cast<std::size_t>(local)] += w * r[j];
+      den[static_cast<std::size_t>(local)] += w;
+    });
   std::vector<Vector3d> d;
   for (const int l : e.free_local) {
     const auto i = static_cast<std::size_t>(l);
@@ -302,25 +299,18 @@ std::vector<Vector3d> lspia_directions(const State& s, const Entity& e) {
 std::vector<Vector3d> least_squares_directions(const State& s, const Entity& e) {
   const auto& t = (*s.solids)[static_cast<std::size_t>(e.block)];
   const auto& net = s.nets[static_cast<std::size_t>(e.block)];
-  const int p = t.degree;
   std::vector<int> column(t.control_points.size(), -1);
   for (std::size_t i = 0; i < e.free_local.size(); ++i) column[static_cast<std::size_t>(e.free_local[i])] = static_cast<int>(i);
   const auto m = static_cast<Eigen::Index>(e.free_local.size());
   std::vector<Eigen::Triplet<double>> trip;
   Eigen::MatrixXd rhs(static_cast<Eigen::Index>(e.q.size()), 3);
   for (std::size_t j = 0; j < e.q.size(); ++j) {
-    const auto& B = e.basis[j];
     Vector3d fixed = Vector3d::Zero();
-    for (int c = 0; c <= p; ++c)
-      for (int b = 0; b <= p; ++b)
-        for (int a = 0; a <= p; ++a) {
-          const double w = B[0].values[a] * B[1].values[b] * B[2].values[c];
-          if (w == 0) continue;
-          const int local = (B[0].span - p + a) + t.size[0] * ((B[1].span - p + b) + t.size[1] * (B[2].span - p + c));
-          const int col = column[static_cast<std::size_t>(local)];
-          if (col >= 0) trip.emplace_back(static_cast<Eigen::Index>(j), col, w);
-          else fixed += w * net.points[static_cast<std::size_t>(local)];
-        }
+    for_each_support(t, e.basis[j], [&](int local, double w) {
+      const int col = column[static_cast<std::size_t>(local)];
+      if (col >= 0) trip.emplace_back(static_cast<Eigen::Index>(j), col, w);
+      else fixed += w * net.points[static_cast<std::size_t>(local)];
+    });
     rhs.row(static_cast<Eigen::Index>(j)) = (e.q[j] - fixed).transpose();
   }
   Eigen::SparseMatrix<double> N(static_cast<Eigen::Index>(e.q.size()), m);
@@ -521,8 +511,19 @@ PhaseReport g1_phase(State& s, const std::vector<Face>& faces, const GfdParams& 
   return ph;
 }
 
+// True if control point `id` lies on a block face marked boundary (the input surface).
+bool on_surface(const State& s, int id) {
+  for (const Ref& r : s.refs[static_cast<std::size_t>(id)]) {
+    const auto& t = (*s.solids)[static_cast<std::size_t>(r.block)];
+    for (int a = 0; a < 3; ++a)
+      if ((r.ijk[a] == 0 && t.boundary[2 * a]) || (r.ijk[a] == t.size[a] - 1 && t.boundary[2 * a + 1])) return true;
+  }
+  return false;
+}
+
 // Elements of the solids guarded by certification that are not certified valid: their control
-// points (block corners excepted) move toward the mean of their neighbours along the free axes of
+// points (block corners and points on the surface excepted: moving those cost the boundary fit,
+// measured on the fandisk: hausdorff_rel 0.029 -> 0.063) move toward the mean of their neighbours along the free axes of
 // their curve, face or interior (Laplacian smoothing untangles; face and curve points stay on
 // their face or curve's net), each move in the feasible region: raising the element's certified
 // lower bound of det J or leaving every bound where it was (the feasible
@@ -561,7 +562,7 @@ PhaseReport repair_phase(State& s, const GfdParams& params) {
                   mean += net.at(nb[0], nb[1], nb[2]), ++count;
                 }
               }
-              if (count == 0) continue;  // a block corner
+              if (count == 0 || on_surface(s, id)) continue;  // block corners and the boundary fit stay
               const double before = s.certified[b][ei].min_detj_lower;
               bool shortened = false;
               if (feasible_move(s, id, mean / count - s.pos[static_cast<std::size_t>(id)], params.halvings, &shortened) < 0) {

@@ -43,7 +43,7 @@ struct GfdParams {
   /// det J stays above min(its value before, min_margin × its mean det J).
   double min_margin = 1e-3;
   /// Sweeps of a last repair phase on elements not certified valid (in solids guarded by
-  /// certification): their control points move toward their neighbours' mean inside the feasible
+  /// certification): their control points off the surface move toward their neighbours' mean inside the feasible
   /// region; stops after a sweep that raised no such element's certified lower bound of det J
   /// [0, 1000]; 0 = none.
   int repair_sweeps = 10;
