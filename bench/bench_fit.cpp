@@ -4,7 +4,7 @@
 // scaled Jacobian > 0.5 on >= 80 % of the volume, hausdorff_rel <= 0.005) with the G1 defect.
 // Usage: bench_fit [--models sphere,bulged-box,fandisk] [--elements N] [--sweeps N] [--g1-sweeps N]
 //                  [--resolution N] [--optimize SWEEPS] [--tet-max-volume-rel X]
-//                  [--smoothness X] [--weights mean-value|uniform]; VOLTS_BENCH_FIT_VERBOSE=1 adds
+//                  [--smoothness X] [--weights mean-value|uniform] [--start-rounds N]; VOLTS_BENCH_FIT_VERBOSE=1 adds
 //                  the worst boundary element and the whole fit report per model.
 // Models: generated names (volts-make-model --list) or `fandisk` (../shared/models/c3d_fandisk.obj).
 #include <chrono>
@@ -28,8 +28,16 @@ int main(int argc, char** argv) {
   std::vector<std::string> models = {"sphere", "bulged-box", "fandisk"};
   fit::Params params;
   int resolution = 64;  // the sphere at 16 is faceted enough to cost hausdorff_rel 7e-3 by itself
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i], v = argv[i + 1];
+  for (int i = 1; i < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h" || i + 1 == argc) {
+      std::fprintf(a == "--help" || a == "-h" ? stdout : stderr,
+                   "usage: bench_fit [--models sphere,bulged-box,fandisk] [--elements N] [--sweeps N] [--g1-sweeps N]\n"
+                   "                 [--resolution N] [--optimize SWEEPS] [--tet-max-volume-rel X] [--smoothness X]\n"
+                   "                 [--weights mean-value|uniform] [--start-rounds N]\n");
+      return a == "--help" || a == "-h" ? 0 : 2;
+    }
+    const std::string v = argv[i + 1];
     if (a == "--models") {
       models.clear();
       std::stringstream s(v);
@@ -42,6 +50,7 @@ int main(int argc, char** argv) {
     else if (a == "--smoothness") params.cube.segmentation.smoothness = std::stod(v);
     else if (a == "--weights") params.cube.weights = v;
     else if (a == "--tet-max-volume-rel") params.cube.tet_max_volume_rel = std::stod(v);
+    else if (a == "--start-rounds") params.gfd.start_rounds = std::stoi(v);
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;

@@ -258,6 +258,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("sweeps", f.gfd.sweeps, 0, 1000);
     s.get("g1_sweeps", f.gfd.g1_sweeps, 0, 1000);
     s.get("halvings", f.gfd.halvings, 0, 30);
+    s.get("start_rounds", f.gfd.start_rounds, 0, 60);
     s.get("repair_sweeps", f.gfd.repair_sweeps, 0, 1000);
     s.get("weights", f.cube.weights, {"mean-value", "uniform"});
     s.get("tet_max_volume_rel", f.cube.tet_max_volume_rel, 1e-6, 1.0);
@@ -396,6 +397,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "sweeps" << YAML::Value << f.gfd.sweeps;
   e << YAML::Key << "g1_sweeps" << YAML::Value << f.gfd.g1_sweeps;
   e << YAML::Key << "halvings" << YAML::Value << f.gfd.halvings;
+  e << YAML::Key << "start_rounds" << YAML::Value << f.gfd.start_rounds;
   e << YAML::Key << "repair_sweeps" << YAML::Value << f.gfd.repair_sweeps;
   e << YAML::Key << "weights" << YAML::Value << f.cube.weights;
   e << YAML::Key << "tet_max_volume_rel" << YAML::Value << f.cube.tet_max_volume_rel;

@@ -47,6 +47,11 @@ struct GfdParams {
   /// region; stops after a sweep that raised no such element's certified lower bound of det J
   /// [0, 1000]; 0 = none.
   int repair_sweeps = 10;
+  /// Rounds of the valid start: control points of elements of the sampled nets that are not
+  /// certified valid are pulled halfway toward the affine fit of the net per round (then onto it),
+  /// so fitting starts from nets with every element valid [0, 60]; 0 = none (fitting then keeps
+  /// the valid elements valid and the repair phase tries the others).
+  int start_rounds = 20;
   /// Called with the nets of all solids after every accepted move (tests check the validity
   /// condition at every iteration); empty = none.
   std::function<void(const std::vector<SolidNet>&)> observer;
@@ -78,6 +83,10 @@ struct Interface {
 
 struct GfdReport {
   std::vector<PhaseReport> phases;
+  int start_not_valid = 0;       ///< elements of the sampled nets not certified valid
+  int start_rounds = 0;          ///< rounds of the valid start
+  int start_blended_points = 0;  ///< control points it moved toward the affine fit
+  double start_max_shift = 0;    ///< their largest move, relative to the bounding-box diagonal
   int initial_failing_subgrids = 0;  ///< Proposition 3 failures of the initial nets
   /// and at the end: 0 in the solids whose initial nets had none; the others (guarded by their
   /// certified elements instead) may have more

@@ -72,6 +72,8 @@ core::Json report_figures(const Result& r) {
           {"tets", r.cube.volume.tets.size()},
           {"flipped_tets", r.cube.volume.flipped_tets},
           {"min_volume_ratio", r.cube.volume.min_volume_ratio},
+          {"start", {{"not_certified_valid", r.gfd.start_not_valid}, {"rounds", r.gfd.start_rounds},
+                     {"blended_points", r.gfd.start_blended_points}, {"max_shift_rel", r.gfd.start_max_shift}}},
           {"initial_failing_subgrids", r.gfd.initial_failing_subgrids},
           {"final_failing_subgrids", r.gfd.final_failing_subgrids},
           {"initial_margin", r.gfd.initial_margin},

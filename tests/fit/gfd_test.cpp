@@ -396,6 +396,75 @@ TEST(GfdTwist, CertifiedElementsOfFailingNetsStayCertifiedAtEveryMove) {
   EXPECT_EQ(watch.prop3_lost, 0);  // the nets that satisfied Prop. 3 still do
 }
 
+// ---- nets sampled from a folding map: the valid start ----
+
+namespace {
+
+// x₀ = u₀ + 0.3 sin(2π u₀) (u₁u₂)²: ∂x₀/∂u₀ = 1 + 0.6π cos(2π u₀)(u₁u₂)² < 0 near u₀ = 1/2 where
+// u₁u₂ > 0.73, a fold along the cube's edge u₁ = u₂ = 1 that sampled nets inherit.
+tmesh::Vec3 fold(const tmesh::Vec3& u) {
+  const double w = u[1] * u[2];
+  return {u[0] + 0.3 * std::sin(2 * M_PI * u[0]) * w * w, u[1], u[2]};
+}
+
+int not_certified_valid(const std::vector<SolidNet>& nets) {
+  int n = 0;
+  for (const auto& net : nets)
+    for (const auto& c : certified(net)) n += c.status != bezier::Validity::valid;
+  return n;
+}
+
+}  // namespace
+
+// GFD keeps validity but cannot create it: the valid start (gfd.h, GfdParams::start_rounds) makes
+// every element certified valid before the first move, and the certified guard keeps them so at
+// every move after it.
+TEST(GfdValidStart, FoldedSampledNetsStartAndStayCertifiedValid) {
+  PillowParams pp;
+  pp.elements = 3;
+  auto solids = initial_solids(fold, pp);
+  const int sampled_not_valid = not_certified_valid(nets_of(solids));
+  ASSERT_GT(sampled_not_valid, 0) << "the fold no longer reaches the sampled nets: the test tests nothing";
+  GfdParams gp = twist_params();
+  long calls = 0, not_valid_seen = 0;
+  gp.observer = [&](const std::vector<SolidNet>& nets) {
+    ++calls;
+    not_valid_seen += not_certified_valid(nets);
+  };
+  const GfdReport rep = fit_solids(solids, fold, gp);
+  EXPECT_EQ(rep.start_not_valid, sampled_not_valid);
+  EXPECT_GE(rep.start_rounds, 1);
+  EXPECT_GT(rep.start_blended_points, 0);
+  EXPECT_GT(rep.start_max_shift, 0);
+  EXPECT_GT(calls, 0);
+  EXPECT_EQ(not_valid_seen, 0);
+  EXPECT_EQ(not_certified_valid(nets_of(solids)), 0);
+}
+
+// start_rounds 0 leaves the sampled nets as they are; a map whose sampled nets are valid is not
+// touched with it on.
+TEST(GfdValidStart, OffLeavesTheSampledNetsAndAValidMapIsNotTouched) {
+  PillowParams pp;
+  pp.elements = 3;
+  auto folded = initial_solids(fold, pp);
+  GfdParams gp = twist_params();
+  gp.start_rounds = 0;
+  gp.sweeps = 0, gp.g1_sweeps = 0, gp.repair_sweeps = 0;
+  const auto before = nets_of(folded);
+  const GfdReport off = fit_solids(folded, fold, gp);
+  EXPECT_GT(off.start_not_valid, 0);
+  EXPECT_EQ(off.start_blended_points, 0);
+  const auto after = nets_of(folded);
+  for (std::size_t b = 0; b < before.size(); ++b) EXPECT_EQ(after[b].points, before[b].points) << "solid " << b;
+  auto twisted = twisted_solids();  // one-to-one: every sampled element certified valid
+  ASSERT_EQ(not_certified_valid(nets_of(twisted)), 0);
+  GfdParams on = gp;
+  on.start_rounds = 20;
+  const GfdReport rep = fit_solids(twisted, twist, on);
+  EXPECT_EQ(rep.start_not_valid, 0);
+  EXPECT_EQ(rep.start_blended_points, 0);
+}
+
 // ---- affine maps ----
 
 namespace {
@@ -501,7 +570,7 @@ TEST(FitSolids, RejectsOutOfRangeParametersAndMalformedSolids) {
   pp.elements = 1;
   const auto base = initial_solids(affine, pp);
   const auto fit = [&](const GfdParams& gp, std::vector<tmesh::TMesh> s) { return fit_solids(s, affine, gp); };
-  for (int bad = 0; bad < 8; ++bad) {
+  for (int bad = 0; bad < 10; ++bad) {
     GfdParams gp;
     switch (bad) {
       case 0: gp.samples = 0; break;
@@ -512,6 +581,8 @@ TEST(FitSolids, RejectsOutOfRangeParametersAndMalformedSolids) {
       case 5: gp.stop_rel = -1e-3; break;
       case 6: gp.halvings = 31; break;
       case 7: gp.g1_sweeps = -1; break;
+      case 8: gp.start_rounds = -1; break;
+      case 9: gp.start_rounds = 61; break;
     }
     EXPECT_THROW(fit(gp, base), core::ConfigError) << bad;
   }
