@@ -4,7 +4,8 @@
 // scaled Jacobian > 0.5 on >= 80 % of the volume, hausdorff_rel <= 0.005) with the G1 defect.
 // Usage: bench_fit [--models sphere,bulged-box,fandisk] [--elements N] [--sweeps N] [--g1-sweeps N]
 //                  [--resolution N] [--optimize SWEEPS] [--tet-max-volume-rel X]
-//                  [--smoothness X] [--weights mean-value|uniform] [--start-rounds N]; VOLTS_BENCH_FIT_VERBOSE=1 adds
+//                  [--smoothness X] [--weights mean-value|uniform] [--start-rounds N]
+//                  [--fairness-sweeps N]; VOLTS_BENCH_FIT_VERBOSE=1 adds
 //                  the worst boundary element and the whole fit report per model.
 // Models: generated names (volts-make-model --list) or `fandisk` (../shared/models/c3d_fandisk.obj).
 #include <chrono>
@@ -34,7 +35,8 @@ int main(int argc, char** argv) {
       std::fprintf(a == "--help" || a == "-h" ? stdout : stderr,
                    "usage: bench_fit [--models sphere,bulged-box,fandisk] [--elements N] [--sweeps N] [--g1-sweeps N]\n"
                    "                 [--resolution N] [--optimize SWEEPS] [--tet-max-volume-rel X] [--smoothness X]\n"
-                   "                 [--weights mean-value|uniform] [--start-rounds N]\n");
+                   "                 [--weights mean-value|uniform] [--start-rounds N]\n"
+                   "                 [--fairness-sweeps N]\n");
       return a == "--help" || a == "-h" ? 0 : 2;
     }
     const std::string v = argv[i + 1];
@@ -45,6 +47,7 @@ int main(int argc, char** argv) {
     } else if (a == "--elements") params.pillow.elements = std::stoi(v);
     else if (a == "--sweeps") params.gfd.sweeps = std::stoi(v);
     else if (a == "--g1-sweeps") params.gfd.g1_sweeps = std::stoi(v);
+    else if (a == "--fairness-sweeps") params.gfd.fairness_sweeps = std::stoi(v);
     else if (a == "--resolution") resolution = std::stoi(v);
     else if (a == "--optimize") params.optimize_sweeps = std::stoi(v);
     else if (a == "--smoothness") params.cube.segmentation.smoothness = std::stod(v);

@@ -257,6 +257,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("samples", f.gfd.samples, 1, 16);
     s.get("sweeps", f.gfd.sweeps, 0, 1000);
     s.get("g1_sweeps", f.gfd.g1_sweeps, 0, 1000);
+    s.get("fairness_sweeps", f.gfd.fairness_sweeps, 0, 1000);
     s.get("halvings", f.gfd.halvings, 0, 30);
     s.get("start_rounds", f.gfd.start_rounds, 0, 60);
     s.get("repair_sweeps", f.gfd.repair_sweeps, 0, 1000);
@@ -396,6 +397,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "samples" << YAML::Value << f.gfd.samples;
   e << YAML::Key << "sweeps" << YAML::Value << f.gfd.sweeps;
   e << YAML::Key << "g1_sweeps" << YAML::Value << f.gfd.g1_sweeps;
+  e << YAML::Key << "fairness_sweeps" << YAML::Value << f.gfd.fairness_sweeps;
   e << YAML::Key << "halvings" << YAML::Value << f.gfd.halvings;
   e << YAML::Key << "start_rounds" << YAML::Value << f.gfd.start_rounds;
   e << YAML::Key << "repair_sweeps" << YAML::Value << f.gfd.repair_sweeps;

@@ -187,6 +187,8 @@ CubeMap map_to_cube(const Mesh& input, const classify::Classification& c, const 
     m.surface = polycube::map_surface(mesh, m.patches, d, pp);
   }
   m.weights = pp.weights;
+  core::log("patch maps (" + pp.weights + " weights): " + std::to_string(m.surface.flipped_surface_triangles) +
+            " flipped triangles, largest angle distortion " + std::to_string(m.surface.max_angle_distortion_deg) + " degrees");
   if (m.surface.flipped_surface_triangles > 0)
     throw core::NumericalError("fit: " + std::to_string(m.surface.flipped_surface_triangles) + " surface triangles are flipped by the patch maps");
   std::vector<std::array<double, 3>> uvw = m.surface.vertex_uvw;

@@ -511,6 +511,81 @@ PhaseReport g1_phase(State& s, const std::vector<Face>& faces, const GfdParams& 
   return ph;
 }
 
+// Fairness of the nets: second differences P_{i-1} − 2P_i + P_{i+1} along every grid line of
+// every solid (a discrete thin-plate energy of the control net), as rms and max relative to diag.
+std::array<double, 2> second_differences(const State& s, double diag) {
+  double sum = 0, mx = 0;
+  long n = 0;
+  for (const SolidNet& net : s.nets)
+    for (int k = 0; k < net.size[2]; ++k)
+      for (int j = 0; j < net.size[1]; ++j)
+        for (int i = 0; i < net.size[0]; ++i)
+          for (int a = 0; a < 3; ++a) {
+            std::array<int, 3> m{i, j, k}, p{i, j, k};
+            --m[a], ++p[a];
+            if (m[a] < 0 || p[a] >= net.size[a]) continue;
+            const double d = (net.at(m[0], m[1], m[2]) - 2 * net.at(i, j, k) + net.at(p[0], p[1], p[2])).norm() / diag;
+            sum += d * d, mx = std::max(mx, d), ++n;
+          }
+  return {n ? std::sqrt(sum / static_cast<double>(n)) : 0.0, mx};
+}
+
+// The paper's last step improves "the fairness of each TBS". Points deep inside a solid (off its
+// faces and off the rows beside them, which carry the boundary fit and Proposition 4's G1
+// condition) move by Gauss–Seidel on the thin-plate energy of the net: along each axis the
+// minimiser of the three second differences containing P_i is (4(P_{i−1} + P_{i+1}) − P_{i−2} −
+// P_{i+2}) / 6; the target is the mean over the axes. Each move is feasible (gfd's region).
+PhaseReport fairness_phase(State& s, const GfdParams& params, double diag) {
+  PhaseReport ph;
+  ph.name = "fairness";
+  const auto e0 = second_differences(s, diag);
+  ph.rms_before = e0[0], ph.max_before = e0[1];
+  struct Point {
+    int id, block;
+    std::array<int, 3> ijk;
+  };
+  std::vector<Point> free;
+  for (std::size_t id = 0; id < s.refs.size(); ++id) {
+    if (s.refs[id].size() != 1) continue;  // shared by solids: on a common face
+    const Ref& r = s.refs[id][0];
+    const auto& net = s.nets[static_cast<std::size_t>(r.block)];
+    bool deep = true;
+    for (int a = 0; a < 3; ++a) deep = deep && r.ijk[a] >= 2 && r.ijk[a] <= net.size[a] - 3;
+    if (deep) free.push_back({static_cast<int>(id), r.block, r.ijk});
+  }
+  ph.points = static_cast<int>(free.size());
+  for (ph.sweeps = 0; ph.sweeps < params.fairness_sweeps;) {
+    ++ph.sweeps;
+    double largest = 0;
+    for (const Point& q : free) {
+      const auto& net = s.nets[static_cast<std::size_t>(q.block)];
+      Vector3d target = Vector3d::Zero();
+      for (int a = 0; a < 3; ++a) {
+        auto at = [&](int step) {
+          std::array<int, 3> x = q.ijk;
+          x[a] += step;
+          return net.at(x[0], x[1], x[2]);
+        };
+        target += (4 * (at(-1) + at(1)) - at(-2) - at(2)) / 6;
+      }
+      const Vector3d delta = target / 3 - s.pos[static_cast<std::size_t>(q.id)];
+      if (delta.norm() <= params.stop_rel * diag) continue;
+      bool shortened = false;
+      const double moved = feasible_move(s, q.id, delta, params.halvings, &shortened);
+      if (moved < 0) {
+        ++ph.refused;
+        continue;
+      }
+      ++ph.moves, ph.shortened += shortened;
+      largest = std::max(largest, moved);
+    }
+    if (largest <= params.stop_rel * diag) break;
+  }
+  const auto e1 = second_differences(s, diag);
+  ph.rms_after = e1[0], ph.max_after = e1[1];
+  return ph;
+}
+
 // True if control point `id` lies on a block face marked boundary (the input surface).
 bool on_surface(const State& s, int id) {
   for (const Ref& r : s.refs[static_cast<std::size_t>(id)]) {
@@ -690,6 +765,7 @@ GfdReport fit_solids(std::vector<tmesh::TMesh>& solids, const Map& map, const Gf
   if (!(params.min_margin >= 0 && params.min_margin < 1)) throw core::ConfigError("fit: min_margin must be in [0, 1)");
   if (params.repair_sweeps < 0 || params.repair_sweeps > 1000) throw core::ConfigError("fit.repair_sweeps must be in [0, 1000]");
   if (params.start_rounds < 0 || params.start_rounds > 60) throw core::ConfigError("fit.start_rounds must be in [0, 60]");
+  if (params.fairness_sweeps < 0 || params.fairness_sweeps > 1000) throw core::ConfigError("fit.fairness_sweeps must be in [0, 1000]");
   if (solids.empty()) throw core::InvalidInputError("fit: no solids");
   GfdReport rep;
   State s = make_state(solids);
@@ -747,6 +823,14 @@ GfdReport fit_solids(std::vector<tmesh::TMesh>& solids, const Map& map, const Gf
               " degrees, " + std::to_string(ph.moves) + " moves, " + std::to_string(ph.refused) + " refused");
   }
   rep.g1_after = measure(s, faces);
+  if (params.fairness_sweeps > 0) {
+    core::LogSection sec("fit fairness");
+    rep.phases.push_back(fairness_phase(s, params, diag));
+    const auto& ph = rep.phases.back();
+    core::log(std::to_string(ph.points) + " points deep inside the solids, rms second difference of the nets " +
+              std::to_string(ph.rms_before) + " -> " + std::to_string(ph.rms_after) + " of the diagonal, " + std::to_string(ph.moves) +
+              " moves, " + std::to_string(ph.refused) + " refused");
+  }
   if (params.repair_sweeps > 0) {
     core::LogSection sec("fit repair");
     rep.phases.push_back(repair_phase(s, params));

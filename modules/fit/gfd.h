@@ -2,7 +2,7 @@
 // "Geometric iterative fitting": the control points of the seven solids move, in the order
 // boundary curves, boundary surfaces, solids, toward the volume map's points, each move kept
 // inside the feasible region of the validity condition; then the smoothness across the solids'
-// common faces is improved the same way (Proposition 4).
+// common faces is improved the same way (Proposition 4), then the fairness of each solid's net.
 //
 // A phase works on the curves (block edges), surfaces (block faces) or interiors of the solids.
 // Each sweep moves every free control point of the phase toward a target: for curves and surfaces
@@ -38,6 +38,9 @@ struct GfdParams {
   double stop_rel = 1e-7;   ///< a phase stops when no point moves more than this × the bounding-box diagonal [0, 1)
   int halvings = 6;         ///< halvings of a move before it is refused [0, 30]
   int g1_sweeps = 20;       ///< sweeps of the smoothness improvement across common faces [0, 1000]
+  /// Sweeps of the fairness improvement after G1: control points deep inside each solid (two rows
+  /// or more from its faces) move toward the minimiser of the net's second differences [0, 1000]
+  int fairness_sweeps = 10;
   /// Moves keep this margin [0, 1): Proposition 3's triple products of unit vectors stay above
   /// min(min_margin, half the solid's initial margin); a certified-valid element's lower bound of
   /// det J stays above min(its value before, min_margin × its mean det J).
@@ -60,7 +63,9 @@ struct GfdParams {
 /// What one phase did. Errors are distances |Q_j − X(t_j)| over the phase's data points,
 /// relative to the bounding-box diagonal of the solids' control points.
 struct PhaseReport {
-  std::string name;   ///< "curves", "surfaces", "solids", "g1" or "repair" (its before/after: elements not certified valid)
+  /// "curves", "surfaces", "solids", "g1" (before/after: angles in degrees), "fairness" (rms and max
+  /// second difference of the nets / diagonal) or "repair" (elements not certified valid)
+  std::string name;
   int points = 0;     ///< control points the phase may move
   int sweeps = 0;
   int moves = 0;      ///< accepted moves (full or shortened)

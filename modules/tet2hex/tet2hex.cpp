@@ -3,8 +3,6 @@
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
-#include <CGAL/Polygon_mesh_processing/detect_features.h>
-#include <CGAL/Polygon_mesh_processing/remesh.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +15,7 @@
 #include "core/errors.h"
 #include "core/log.h"
 #include "quality/quality.h"
+#include "surface/remesh.h"
 #include "tet2hex/convert.h"
 
 namespace volts::tet2hex {
@@ -25,7 +24,6 @@ namespace {
 using surface::Mesh;
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<surface::Kernel, Primitive>>;
-namespace PMP = CGAL::Polygon_mesh_processing;
 
 void check_params(const Params& p) {
   if (p.degree < 1 || p.degree > 4) throw core::ConfigError("tet2hex.degree must be in [1, 4]");
@@ -167,18 +165,9 @@ bool convert_certify(const bezier::BezierTet& tet, const bezier::CertifyParams& 
 }
 
 Mesh remesh(const Mesh& in, double edge_rel) {
-  Mesh m = in;
-  const double target = edge_rel * surface::bbox_diagonal(in);
-  auto ecm = m.add_property_map<Mesh::Edge_index, bool>("e:volts_sharp", false).first;
-  PMP::detect_sharp_edges(m, 30.0, ecm);
-  std::vector<Mesh::Edge_index> sharp;
-  for (auto e : m.edges())
-    if (ecm[e]) sharp.push_back(e);
-  PMP::split_long_edges(sharp, target, m, CGAL::parameters::edge_is_constrained_map(ecm));
-  PMP::isotropic_remeshing(faces(m), target, m,
-                           CGAL::parameters::number_of_iterations(3).edge_is_constrained_map(ecm).protect_constraints(true));
-  m.collect_garbage();
-  return m;
+  surface::RemeshParams p;
+  p.edge_length = edge_rel * surface::bbox_diagonal(in);
+  return surface::remesh_isotropic(in, p).mesh;
 }
 
 // The corners of the tets as a TetMesh (points welded by exact position), for .vtu input.

@@ -277,6 +277,53 @@ TEST(GfdSphere, G1PhaseDoesNotIncreaseTheMeanAngle) {
               g.rms_after, g.max_before, g.max_after, mean_of_means(r.report.g1_before));
 }
 
+// The paper's last step, "the fairness of each TBS": only control points two rows or more inside a
+// solid move (faces carry the boundary fit, the rows beside them Proposition 4), and the nets'
+// second differences fall. Two fits from the same nets, with and without the phase.
+TEST(GfdSphere, FairnessMovesOnlyDeepPointsAndSmoothsTheNets) {
+  const SphereRun& r = sphere();
+  PillowParams pp;
+  pp.elements = 3;  // 6 control points per direction: 2 x 2 x 2 deep ones per solid
+  const std::vector<tmesh::TMesh> initial = initial_solids(r.map, pp);
+  GfdParams gp;
+  gp.sweeps = 5;
+  gp.g1_sweeps = 5;
+  gp.repair_sweeps = 0;
+  gp.fairness_sweeps = 0;
+  std::vector<tmesh::TMesh> without = initial, with = initial;
+  fit_solids(without, r.map, gp);
+  gp.fairness_sweeps = 10;
+  const GfdReport rep = fit_solids(with, r.map, gp);
+  const PhaseReport& f = phase(rep, "fairness");
+  EXPECT_EQ(f.points, 7 * 8);
+  EXPECT_GT(f.moves, 0);
+  EXPECT_LT(f.rms_after, f.rms_before);
+  int deep_moved = 0;
+  for (std::size_t b = 0; b < with.size(); ++b) {
+    const auto& t = with[b];
+    for (int k = 0; k < t.size[2]; ++k)
+      for (int j = 0; j < t.size[1]; ++j)
+        for (int i = 0; i < t.size[0]; ++i) {
+          const auto idx = static_cast<std::size_t>(i + t.size[0] * (j + t.size[1] * k));
+          const bool deep = i >= 2 && j >= 2 && k >= 2 && i <= t.size[0] - 3 && j <= t.size[1] - 3 && k <= t.size[2] - 3;
+          const bool same = vec(t.control_points[idx]) == vec(without[b].control_points[idx]);
+          if (!deep) {
+            EXPECT_TRUE(same) << "solid " << b << " point " << i << " " << j << " " << k;
+          }
+          deep_moved += deep && !same;
+        }
+  }
+  EXPECT_GT(deep_moved, 0);
+  int invalid = 0;
+  for (const auto& t : with)
+    for (const auto& hex : bezier::extract_bezier_hexes(to_volume(net_of(t))))
+      invalid += bezier::certify(hex).status != bezier::Validity::valid;
+  EXPECT_EQ(invalid, 0);
+  EXPECT_EQ(rep.final_failing_subgrids, 0);
+  std::printf("fairness: %d points, rms second difference %.5f -> %.5f of the diagonal, %d moves\n", f.points, f.rms_before,
+              f.rms_after, f.moves);
+}
+
 TEST(GfdSphere, SharedControlPointsStayShared) {
   const SphereRun& r = sphere();
   std::map<int, Vector3d> at;
@@ -570,7 +617,7 @@ TEST(FitSolids, RejectsOutOfRangeParametersAndMalformedSolids) {
   pp.elements = 1;
   const auto base = initial_solids(affine, pp);
   const auto fit = [&](const GfdParams& gp, std::vector<tmesh::TMesh> s) { return fit_solids(s, affine, gp); };
-  for (int bad = 0; bad < 10; ++bad) {
+  for (int bad = 0; bad < 12; ++bad) {
     GfdParams gp;
     switch (bad) {
       case 0: gp.samples = 0; break;
@@ -583,6 +630,8 @@ TEST(FitSolids, RejectsOutOfRangeParametersAndMalformedSolids) {
       case 7: gp.g1_sweeps = -1; break;
       case 8: gp.start_rounds = -1; break;
       case 9: gp.start_rounds = 61; break;
+      case 10: gp.fairness_sweeps = -1; break;
+      case 11: gp.fairness_sweeps = 1001; break;
     }
     EXPECT_THROW(fit(gp, base), core::ConfigError) << bad;
   }
