@@ -511,12 +511,38 @@ PhaseReport g1_phase(State& s, const std::vector<Face>& faces, const GfdParams& 
   return ph;
 }
 
-// Fairness of the nets: second differences P_{i-1} − 2P_i + P_{i+1} along every grid line of
-// every solid (a discrete thin-plate energy of the control net), as rms and max relative to diag.
+// Greville abscissae of solid b along axis a (where the control points sit in parameter space).
+std::vector<double> greville(const State& s, int b, int a) {
+  const auto& t = (*s.solids)[static_cast<std::size_t>(b)];
+  const auto& knots = t.knots[static_cast<std::size_t>(a)];
+  std::vector<double> g(static_cast<std::size_t>(t.size[a]));
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    double sum = 0;
+    for (int k = 1; k <= t.degree; ++k) sum += knots[i + static_cast<std::size_t>(k)];
+    g[i] = sum / t.degree;
+  }
+  return g;
+}
+
+// Second divided difference of a grid line at index j, D_j = w[0] P_{j−1} + w[1] P_j + w[2] P_{j+1}
+// over the Greville abscissae g: zero on nets of maps that are linear along the line (the nets of
+// trilinear and affine maps), so fairness leaves exact fits alone.
+std::array<double, 3> divided_difference(const std::vector<double>& g, int j) {
+  const auto u = static_cast<std::size_t>(j);
+  const double h0 = g[u] - g[u - 1], h1 = g[u + 1] - g[u], h = g[u + 1] - g[u - 1];
+  const double a = 2 / (h0 * h), c = 2 / (h1 * h);
+  return {a, -(a + c), c};
+}
+
+// Fairness of the nets: the second divided differences along every grid line of every solid (a
+// discrete thin-plate energy of the control net), rms and max relative to the diagonal.
 std::array<double, 2> second_differences(const State& s, double diag) {
   double sum = 0, mx = 0;
   long n = 0;
-  for (const SolidNet& net : s.nets)
+  for (std::size_t b = 0; b < s.nets.size(); ++b) {
+    const SolidNet& net = s.nets[b];
+    std::array<std::vector<double>, 3> g;
+    for (int a = 0; a < 3; ++a) g[static_cast<std::size_t>(a)] = greville(s, static_cast<int>(b), a);
     for (int k = 0; k < net.size[2]; ++k)
       for (int j = 0; j < net.size[1]; ++j)
         for (int i = 0; i < net.size[0]; ++i)
@@ -524,17 +550,19 @@ std::array<double, 2> second_differences(const State& s, double diag) {
             std::array<int, 3> m{i, j, k}, p{i, j, k};
             --m[a], ++p[a];
             if (m[a] < 0 || p[a] >= net.size[a]) continue;
-            const double d = (net.at(m[0], m[1], m[2]) - 2 * net.at(i, j, k) + net.at(p[0], p[1], p[2])).norm() / diag;
+            const auto w = divided_difference(g[static_cast<std::size_t>(a)], (std::array<int, 3>{i, j, k})[static_cast<std::size_t>(a)]);
+            const double d = (w[0] * net.at(m[0], m[1], m[2]) + w[1] * net.at(i, j, k) + w[2] * net.at(p[0], p[1], p[2])).norm() / diag;
             sum += d * d, mx = std::max(mx, d), ++n;
           }
+  }
   return {n ? std::sqrt(sum / static_cast<double>(n)) : 0.0, mx};
 }
 
 // The paper's last step improves "the fairness of each TBS". Points deep inside a solid (off its
 // faces and off the rows beside them, which carry the boundary fit and Proposition 4's G1
-// condition) move by Gauss–Seidel on the thin-plate energy of the net: along each axis the
-// minimiser of the three second differences containing P_i is (4(P_{i−1} + P_{i+1}) − P_{i−2} −
-// P_{i+2}) / 6; the target is the mean over the axes. Each move is feasible (gfd's region).
+// condition) move by Gauss–Seidel on the thin-plate energy of the net: P_i appears in the second
+// divided differences D_{i−1}, D_i, D_{i+1} of its three grid lines, D = c P_i + r, and the
+// minimiser is −Σ c r / Σ c². Each move is feasible (gfd's region).
 PhaseReport fairness_phase(State& s, const GfdParams& params, double diag) {
   PhaseReport ph;
   ph.name = "fairness";
@@ -545,6 +573,9 @@ PhaseReport fairness_phase(State& s, const GfdParams& params, double diag) {
     std::array<int, 3> ijk;
   };
   std::vector<Point> free;
+  std::vector<std::array<std::vector<double>, 3>> g(s.nets.size());
+  for (std::size_t b = 0; b < s.nets.size(); ++b)
+    for (int a = 0; a < 3; ++a) g[b][static_cast<std::size_t>(a)] = greville(s, static_cast<int>(b), a);
   for (std::size_t id = 0; id < s.refs.size(); ++id) {
     if (s.refs[id].size() != 1) continue;  // shared by solids: on a common face
     const Ref& r = s.refs[id][0];
@@ -559,16 +590,25 @@ PhaseReport fairness_phase(State& s, const GfdParams& params, double diag) {
     double largest = 0;
     for (const Point& q : free) {
       const auto& net = s.nets[static_cast<std::size_t>(q.block)];
-      Vector3d target = Vector3d::Zero();
+      const Vector3d here = s.pos[static_cast<std::size_t>(q.id)];
+      Vector3d num = Vector3d::Zero();
+      double den = 0;
       for (int a = 0; a < 3; ++a) {
+        const auto& ga = g[static_cast<std::size_t>(q.block)][static_cast<std::size_t>(a)];
         auto at = [&](int step) {
           std::array<int, 3> x = q.ijk;
-          x[a] += step;
+          x[static_cast<std::size_t>(a)] += step;
           return net.at(x[0], x[1], x[2]);
         };
-        target += (4 * (at(-1) + at(1)) - at(-2) - at(2)) / 6;
+        for (int j = -1; j <= 1; ++j) {  // D at index i + j; P_i is its neighbour −j
+          const auto w = divided_difference(ga, q.ijk[static_cast<std::size_t>(a)] + j);
+          const double c = w[static_cast<std::size_t>(1 - j)];
+          const Vector3d d = w[0] * at(j - 1) + w[1] * at(j) + w[2] * at(j + 1);
+          num += c * (d - c * here);
+          den += c * c;
+        }
       }
-      const Vector3d delta = target / 3 - s.pos[static_cast<std::size_t>(q.id)];
+      const Vector3d delta = -num / den - here;
       if (delta.norm() <= params.stop_rel * diag) continue;
       bool shortened = false;
       const double moved = feasible_move(s, q.id, delta, params.halvings, &shortened);

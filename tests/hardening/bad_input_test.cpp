@@ -257,6 +257,19 @@ std::vector<BadInput> catalogue() {
       stage_json("MismatchedStagesClassification", "classify", "volts-split",
                  [](core::Json& j) { j["classification"]["face_patch"].erase(j["classification"]["face_patch"].begin()); },
                  "stage data do not match: classification.face_patch has"),
+      // volts-fit (route fit) reads the same classify.stage.json as volts-split, through its own executable.
+      stage("FitStageTruncated", "classify.stage.json", "volts-fit",
+            [] { const std::string t = good_text("classify.stage.json"); return t.substr(0, t.size() / 3); },
+            "truncated or malformed JSON at byte"),
+      stage_json("FitStageClassificationMismatch", "classify", "volts-fit",
+                 [](core::Json& j) { j["classification"]["face_patch"].erase(j["classification"]["face_patch"].begin()); },
+                 "stage data do not match: classification.face_patch has"),
+      stage_json("FitStageSurfaceNotClosed", "classify", "volts-fit",
+                 [](core::Json& j) {
+                   auto& f = j["surface"]["faces"];
+                   f.erase(f.end() - 3, f.end());
+                 },
+                 "the surface in the stage file is not closed"),
       stage_json("MismatchedStagesPatchIndex", "split", "volts-polycube",
                  [](core::Json& j) { j["decomposition"]["components"][0]["patches"][0] = 6000; },
                  "patch 6000"),  // split::from_json or pipeline::check_decomposition, whichever reads it first

@@ -293,7 +293,7 @@ TEST(Pipeline, FitRouteRunsASphereEndToEnd) {
   EXPECT_LT(f["volume_rel_error"].get<double>(), 0.005);
   EXPECT_LT(f["partition_of_unity_error"].get<double>(), 1e-12);
   EXPECT_LE(f["g1_max_angle_deg_after"].get<double>(), f["g1_max_angle_deg_before"].get<double>());
-  ASSERT_EQ(f["phases"].size(), 5u);  // curves, surfaces, solids, g1, repair
+  ASSERT_EQ(f["phases"].size(), 6u);  // curves, surfaces, solids, g1, fairness, repair
   for (int i = 0; i < 2; ++i)  // curves, surfaces: least-squares targets never end worse than they start
     EXPECT_LE(f["phases"][i]["rms_after"].get<double>(), f["phases"][i]["rms_before"].get<double>() + 1e-15) << f["phases"][i]["name"];
   // Resuming at fit reuses classify.stage.json and gives the same elements.
