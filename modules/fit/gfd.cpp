@@ -184,6 +184,20 @@ double feasible_move(State& s, int id, const Vector3d& delta, int halvings, bool
   return -1;
 }
 
+// One phase move of point id by delta, counted in the phase's report: skipped below the stop
+// distance, refused outside the feasible region. Returns the distance moved (0 if none).
+double phase_move(State& s, PhaseReport& ph, int id, const Vector3d& delta, const GfdParams& params, double diag) {
+  if (delta.norm() <= params.stop_rel * diag) return 0;
+  bool shortened = false;
+  const double moved = feasible_move(s, id, delta, params.halvings, &shortened);
+  if (moved < 0) {
+    ++ph.refused;
+    return 0;
+  }
+  ++ph.moves, ph.shortened += shortened;
+  return moved;
+}
+
 // A curve, face or interior of one solid: axes with state -1 are free, 0 / 1 fixed at the start / end.
 struct Entity {
   int block = 0;
@@ -355,16 +369,7 @@ PhaseReport fit_phase(State& s, const std::vector<Entity>& es, const char* name,
       const auto d = dimension(e.state) == 3 ? lspia_directions(s, e) : least_squares_directions(s, e);
       for (std::size_t i = 0; i < e.free_local.size(); ++i) {
         const int id = solids[static_cast<std::size_t>(e.block)].function_ids[static_cast<std::size_t>(e.free_local[i])];
-        if (d[i].norm() <= params.stop_rel * diag) continue;
-        bool shortened = false;
-        const double moved = feasible_move(s, id, d[i], params.halvings, &shortened);
-        if (moved < 0) {
-          ++ph.refused;
-          continue;
-        }
-        ++ph.moves;
-        ph.shortened += shortened;
-        largest = std::max(largest, moved);
+        largest = std::max(largest, phase_move(s, ph, id, d[i], params, diag));
       }
     }
     if (largest <= params.stop_rel * diag) break;
@@ -493,16 +498,7 @@ PhaseReport g1_phase(State& s, const std::vector<Face>& faces, const GfdParams& 
     }
     double largest = 0;
     for (const auto& [id, t] : target) {
-      const Vector3d delta = t.first / t.second - s.pos[static_cast<std::size_t>(id)];
-      if (delta.norm() <= params.stop_rel * diag) continue;
-      bool shortened = false;
-      const double moved = feasible_move(s, id, delta, params.halvings, &shortened);
-      if (moved < 0) {
-        ++ph.refused;
-        continue;
-      }
-      ++ph.moves, ph.shortened += shortened;
-      largest = std::max(largest, moved);
+      largest = std::max(largest, phase_move(s, ph, id, t.first / t.second - s.pos[static_cast<std::size_t>(id)], params, diag));
     }
     if (largest <= params.stop_rel * diag) break;
   }
@@ -608,16 +604,7 @@ PhaseReport fairness_phase(State& s, const GfdParams& params, double diag) {
           den += c * c;
         }
       }
-      const Vector3d delta = -num / den - here;
-      if (delta.norm() <= params.stop_rel * diag) continue;
-      bool shortened = false;
-      const double moved = feasible_move(s, q.id, delta, params.halvings, &shortened);
-      if (moved < 0) {
-        ++ph.refused;
-        continue;
-      }
-      ++ph.moves, ph.shortened += shortened;
-      largest = std::max(largest, moved);
+      largest = std::max(largest, phase_move(s, ph, q.id, -num / den - here, params, diag));
     }
     if (largest <= params.stop_rel * diag) break;
   }
