@@ -91,28 +91,22 @@ Eigen::Matrix3d polynomial_jacobian(const BezierHex& hex, const Eigen::VectorXd&
 
 }  // namespace
 
-JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points) {
+std::vector<Eigen::Matrix3d> jacobian_samples(const BezierHex& hex, int gauss_points) {
   check(hex);
   std::vector<double> g = gauss_legendre_points(gauss_points);
-  JacobianSample s;
-  auto record = [&](const Eigen::Matrix3d& J) {
-    const double det = J.determinant(), sj = scaled_jacobian(J);
-    s.min_det = std::min(s.min_det, det);
-    s.max_det = std::max(s.max_det, det);
-    s.min_scaled = std::min(s.min_scaled, sj);
-    s.max_scaled = std::max(s.max_scaled, sj);
-  };
+  std::vector<Eigen::Matrix3d> out;
+  out.reserve(8 + g.size() * g.size() * g.size());
   if (hex.is_rational()) {
     auto add = [&](const Eigen::Vector3d& uvw) {
       Eigen::Matrix3d J;
       evaluate(hex, uvw, &J);
-      record(J);
+      out.push_back(J);
     };
     for (int c = 0; c < 8; ++c) add(Eigen::Vector3d(c & 1, (c >> 1) & 1, (c >> 2) & 1));
     for (double w : g)
       for (double v : g)
         for (double u : g) add(Eigen::Vector3d(u, v, w));
-    return s;
+    return out;
   }
   // Coordinates per direction: 0, 1, then the Gauss points; bases computed once.
   g.insert(g.begin(), {0.0, 1.0});
@@ -124,14 +118,28 @@ JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points) {
       dB[d].push_back(db);
     }
   auto add = [&](std::size_t a, std::size_t b, std::size_t c) {
-    record(polynomial_jacobian(hex, B[0][a], dB[0][a], B[1][b], dB[1][b], B[2][c], dB[2][c]));
+    out.push_back(polynomial_jacobian(hex, B[0][a], dB[0][a], B[1][b], dB[1][b], B[2][c], dB[2][c]));
   };
   for (std::size_t c = 0; c < 8; ++c) add(c & 1, (c >> 1) & 1, (c >> 2) & 1);
   for (std::size_t w = 2; w < g.size(); ++w)
     for (std::size_t v = 2; v < g.size(); ++v)
       for (std::size_t u = 2; u < g.size(); ++u) add(u, v, w);
+  return out;
+}
+
+JacobianSample summarize_jacobians(const std::vector<Eigen::Matrix3d>& J) {
+  JacobianSample s;
+  for (const auto& m : J) {
+    const double det = m.determinant(), sj = scaled_jacobian(m);
+    s.min_det = std::min(s.min_det, det);
+    s.max_det = std::max(s.max_det, det);
+    s.min_scaled = std::min(s.min_scaled, sj);
+    s.max_scaled = std::max(s.max_scaled, sj);
+  }
   return s;
 }
+
+JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points) { return summarize_jacobians(jacobian_samples(hex, gauss_points)); }
 
 double volume(const BezierHex& hex, int gauss_points) {
   check(hex);

@@ -55,6 +55,14 @@ struct JacobianSample {
 /// (certification needs the Bernstein coefficients of det J). Throws InvalidInputError if n < 1.
 JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points);
 
+/// The Jacobian matrices sample_jacobian() looks at, in its order: the 8 corners, then the n^3
+/// Gauss–Legendre points (u fastest). J is linear in the control points of a polynomial hex, so
+/// callers moving one point can update these instead of re-evaluating (tmesh optimization).
+std::vector<Eigen::Matrix3d> jacobian_samples(const BezierHex& hex, int gauss_points);
+
+/// min/max scaled Jacobian and det J over matrices (what sample_jacobian() reports for them).
+JacobianSample summarize_jacobians(const std::vector<Eigen::Matrix3d>& J);
+
 /// ∫ det J over [0,1]^3 by n^3-point Gauss–Legendre (signed volume). Exact for polynomial hexes
 /// when 2n-1 >= the degree of det J in each direction (3p-1 for degree p: n = 5 for cubics).
 double volume(const BezierHex& hex, int gauss_points);

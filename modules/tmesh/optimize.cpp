@@ -232,7 +232,37 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
           }
           return worst;
         };
-        auto objective = [&](const std::vector<double>& d) { return objective_on(d, near); };
+        // The search's objective on certified-valid elements without re-evaluating them: J is
+        // linear in the node's position, J(x0 + δ) = J(x0) + δ ∇N(u)ᵀ at every sample point u
+        // (∇N: gradient of the node's basis function there), so each element's sampled J(x0) and
+        // ∇N are taken once per node. Most of the optimization's time was these re-evaluations.
+        struct Linear {
+          std::vector<Eigen::Matrix3d> J0;
+          std::vector<Eigen::RowVector3d> grad;
+        };
+        std::vector<Linear> linear;
+        std::vector<int> direct;  // elements not certified valid: re-evaluated and certified per call
+        for (const int x : near) {
+          if (!q[static_cast<std::size_t>(x)].valid) {
+            direct.push_back(x);
+            continue;
+          }
+          Linear l;
+          s.set_position(id, x0);
+          l.J0 = bezier::jacobian_samples(s.hex(static_cast<std::size_t>(x)), params.gauss_points);
+          s.set_position(id, {x0[0] + h, x0[1], x0[2]});
+          const std::vector<Eigen::Matrix3d> J1 = bezier::jacobian_samples(s.hex(static_cast<std::size_t>(x)), params.gauss_points);
+          for (std::size_t k = 0; k < J1.size(); ++k) l.grad.push_back((J1[k].row(0) - l.J0[k].row(0)) / h);
+          linear.push_back(std::move(l));
+        }
+        s.set_position(id, x0);
+        auto objective = [&](const std::vector<double>& d) {
+          const Eigen::Vector3d delta(d[0], d[1], d[2]);
+          double worst = std::numeric_limits<double>::infinity();
+          for (const Linear& l : linear)
+            for (std::size_t k = 0; k < l.J0.size(); ++k) worst = std::min(worst, bezier::scaled_jacobian(l.J0[k] + delta * l.grad[k]));
+          return direct.empty() ? worst : std::min(worst, objective_on(d, direct));
+        };
         nlopt::opt opt(nlopt::LN_BOBYQA, 3);
         opt.set_lower_bounds(std::vector<double>(3, -h));
         opt.set_upper_bounds(std::vector<double>(3, h));
@@ -242,23 +272,40 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         opt.set_maxeval(params.max_evaluations);
         opt.set_initial_step(0.25 * h);
         std::vector<double> d(3, 0.0);
-        const double before = objective_on(d, els);
+        // The objective over all the node's elements at x0: sampled figures from q, certified
+        // ones of the elements not certified valid.
+        std::vector<int> not_valid;
+        double before = std::numeric_limits<double>::infinity();
+        for (const int x : els) {
+          if (q[static_cast<std::size_t>(x)].valid) before = std::min(before, q[static_cast<std::size_t>(x)].scaled);
+          else not_valid.push_back(x);
+        }
+        if (!not_valid.empty()) before = std::min(before, objective_on(d, not_valid));
         double best = objective(d);
         try {
           opt.optimize(d, best);
         } catch (const std::exception&) {
           // NLopt gives up on a flat or noisy objective: keep the best point it reported in d.
         }
-        // Accept only a real gain that keeps every certified-valid element valid.
+        // Accept only a real gain (the objective over all the node's elements, evaluated anew)
+        // that keeps every certified-valid element valid.
         s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
         std::vector<std::pair<int, Quality>> now;
-        bool ok = objective_on(d, els) > before + 1e-9;
+        bool ok = true;
+        double after = std::numeric_limits<double>::infinity();
         for (const int x : els) {
-          if (!ok) break;
-          const Quality m = measure(static_cast<std::size_t>(x));
-          if (q[static_cast<std::size_t>(x)].valid && !m.valid) ok = false;
+          const bezier::BezierHex hx = s.hex(static_cast<std::size_t>(x));
+          const bezier::CertifyResult c = bezier::certify(hx, cp);
+          const Quality m{bezier::sample_jacobian(hx, params.gauss_points).min_scaled, c.status == bezier::Validity::valid};
+          after = std::min(after, m.scaled);
+          if (!q[static_cast<std::size_t>(x)].valid && c.mean_detj > 0) after = std::min(after, c.min_detj_lower / c.mean_detj);
+          if (q[static_cast<std::size_t>(x)].valid && !m.valid) {
+            ok = false;
+            break;
+          }
           now.emplace_back(x, m);
         }
+        ok = ok && after > before + 1e-9;
         if (!ok) {
           s.set_position(id, x0);
           continue;
