@@ -7,16 +7,16 @@
 // rational Σ R_i g_i at random points) and the rule's time (refinement only).
 // Usage: bench_tspline [--levels 3,4,5] [--rules none,vertex,graded2,repair,slab,uniform] [--samples N]
 #include <chrono>
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <functional>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "common/octree_families.h"
 #include "octree/octree.h"
+#include "octree/refine.h"
 #include "tspline/suitable.h"
 #include "tspline/tspline.h"
 
@@ -26,66 +26,17 @@ using octree::Octree;
 
 namespace {
 
-bool random_split(const Cell& c, std::uint64_t seed, double p) {
-  std::uint64_t x = seed * 0x9E3779B97F4A7C15ull + std::uint64_t(c.level) * 0xBF58476D1CE4E5B9ull +
-                    (std::uint64_t(c.lo[0]) << 40) + (std::uint64_t(c.lo[1]) << 20) + std::uint64_t(c.lo[2]);
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  x ^= x >> 31;
-  return (x >> 11) * 0x1.0p-53 < p;
-}
-
 using Predicate = std::function<bool(const Cell&)>;
 
 std::vector<std::pair<std::string, Predicate>> families() {
   std::vector<std::pair<std::string, Predicate>> out;
-  out.push_back({"point", [](const Cell& c) {
-                   const octree::Vec3 q{0.3, 0.61, 0.77};
-                   for (int a = 0; a < 3; ++a)
-                     if (q[a] < c.unit_lo[a] || q[a] > c.unit_hi[a]) return false;
-                   return true;
-                 }});
-  out.push_back({"plane", [](const Cell& c) {  // x + 2y - z = 0.7
-                   double mn = 1e9, mx = -1e9;
-                   for (int k = 0; k < 8; ++k) {
-                     const double s = (k & 1 ? c.unit_hi[0] : c.unit_lo[0]) + 2 * (k & 2 ? c.unit_hi[1] : c.unit_lo[1]) -
-                                      (k & 4 ? c.unit_hi[2] : c.unit_lo[2]) - 0.7;
-                     mn = std::min(mn, s);
-                     mx = std::max(mx, s);
-                   }
-                   return mn <= 0 && mx >= 0;
-                 }});
-  out.push_back({"sphere", [](const Cell& c) {  // cells meeting |x - m| = 0.3
-                   const octree::Vec3 m{0.45, 0.5, 0.55};
-                   double near = 0, far = 0;
-                   for (int a = 0; a < 3; ++a) {
-                     const double d = std::max({c.unit_lo[a] - m[a], 0.0, m[a] - c.unit_hi[a]});
-                     const double e = std::max(std::abs(m[a] - c.unit_lo[a]), std::abs(m[a] - c.unit_hi[a]));
-                     near += d * d;
-                     far += e * e;
-                   }
-                   return std::sqrt(near) <= 0.3 && 0.3 <= std::sqrt(far);
-                 }});
+  out.push_back({"point", test::toward_point});
+  out.push_back({"plane", test::toward_plane});
+  out.push_back({"sphere", test::toward_sphere});
   for (std::uint64_t seed = 1; seed <= 2; ++seed)
     out.push_back({"random" + std::to_string(seed),
-                   [seed](const Cell& c) { return c.level == 0 || random_split(c, seed, 0.25); }});
+                   [seed](const Cell& c) { return c.level == 0 || octree::random_split(c, seed, 0.25); }});
   return out;
-}
-
-// Max |Σ N_i g_i - u| and |Σ R_i g_i - u| at random points.
-std::pair<double, double> random_identity_errors(const tspline::TSpline& ts, int samples) {
-  const std::vector<Eigen::Vector3d> g = tspline::greville_points(ts);
-  std::mt19937 rng(17);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  double poly = 0, rat = 0;
-  for (int s = 0; s < samples; ++s) {
-    const Eigen::Vector3d u(U(rng), U(rng), U(rng));
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    for (const auto& [i, v] : ts.basis(u)) x += v * g[i];
-    poly = std::max(poly, (x - u).cwiseAbs().maxCoeff());
-    rat = std::max(rat, (ts.evaluate(g, u) - u).cwiseAbs().maxCoeff());
-  }
-  return {poly, rat};
 }
 
 std::vector<std::string> split_list(const std::string& v) {
@@ -158,7 +109,7 @@ int main(int argc, char** argv) {
         }
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const tspline::TSpline ts(t);
-        const auto [poly, rat] = random_identity_errors(ts, samples);
+        const auto [poly, rat] = test::random_identity_errors(ts, samples, 17);
         std::printf("| %s | %d | %s | %zu | %zu | %.2f | %d | %zu | %.2g | %.2g | %.2g | %.2g | %s | %.2f |\n", name.c_str(), L,
                     label.c_str(), base.leaves().size(), t.leaves().size(),
                     double(t.leaves().size()) / double(base.leaves().size()), ts.num_functions(), ts.elements().size(),

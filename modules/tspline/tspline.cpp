@@ -28,6 +28,21 @@ std::vector<double> padded(const LocalKnots& k) {
   return K;
 }
 
+// Calls f(b) for the flat index b = x + buckets (y + buckets z) of every bucket (cubes of
+// `bucket_side` unit cells, `buckets` per axis) holding a unit cell of the box first..last (inclusive
+// unit-cell indices), z slowest.
+template <class F>
+void for_each_bucket(const Index3& first, const Index3& last, int bucket_side, int buckets, F&& f) {
+  Index3 b0, b1;
+  for (int a = 0; a < 3; ++a) {
+    b0[a] = first[a] / bucket_side;
+    b1[a] = last[a] / bucket_side;
+  }
+  for (int z = b0[2]; z <= b1[2]; ++z)
+    for (int y = b0[1]; y <= b1[1]; ++y)
+      for (int x = b0[0]; x <= b1[0]; ++x) f(x + buckets * (y + buckets * z));
+}
+
 // Positions > x (dir +1) or < x (dir -1) along axis a of the line through `node` where it meets a
 // T-mesh face perpendicular to a: the nearest two, nearest first. Every leaf whose closed box
 // contains a point of the line contains one of the (up to 4) unit index columns around the line,
@@ -154,14 +169,8 @@ void TSpline::build_functions(const octree::Octree& tree) {
   bucket_functions_.assign(std::size_t(buckets_) * buckets_ * buckets_, {});
   for (int i = 0; i < num_functions(); ++i) {
     const Index3 lo = functions_[i].support_lo(), hi = functions_[i].support_hi();
-    Index3 b0, b1;
-    for (int a = 0; a < 3; ++a) {
-      b0[a] = lo[a] / bucket_side_;
-      b1[a] = (hi[a] - 1) / bucket_side_;
-    }
-    for (int z = b0[2]; z <= b1[2]; ++z)
-      for (int y = b0[1]; y <= b1[1]; ++y)
-        for (int x = b0[0]; x <= b1[0]; ++x) bucket_functions_[x + buckets_ * (y + buckets_ * z)].push_back(i);
+    for_each_bucket(lo, {hi[0] - 1, hi[1] - 1, hi[2] - 1}, bucket_side_, buckets_,
+                    [&](int b) { bucket_functions_[b].push_back(i); });
   }
 }
 
@@ -175,19 +184,13 @@ void TSpline::build_elements(const octree::Octree& tree) {
     const Index3 lo = cell.lo, hi = cell.hi();
     // Functions whose open support meets the open leaf.
     std::vector<int> on_leaf;
-    Index3 b0, b1;
-    for (int a = 0; a < 3; ++a) {
-      b0[a] = lo[a] / bucket_side_;
-      b1[a] = (hi[a] - 1) / bucket_side_;
-    }
-    for (int z = b0[2]; z <= b1[2]; ++z)
-      for (int y = b0[1]; y <= b1[1]; ++y)
-        for (int x = b0[0]; x <= b1[0]; ++x)
-          for (int i : bucket_functions_[x + buckets_ * (y + buckets_ * z)]) {
-            if (stamp[i] == l) continue;
-            stamp[i] = l;
-            if (open_overlap(functions_[i].support_lo(), functions_[i].support_hi(), lo, hi)) on_leaf.push_back(i);
-          }
+    for_each_bucket(lo, {hi[0] - 1, hi[1] - 1, hi[2] - 1}, bucket_side_, buckets_, [&](int b) {
+      for (int i : bucket_functions_[b]) {
+        if (stamp[i] == l) continue;
+        stamp[i] = l;
+        if (open_overlap(functions_[i].support_lo(), functions_[i].support_hi(), lo, hi)) on_leaf.push_back(i);
+      }
+    });
     std::sort(on_leaf.begin(), on_leaf.end());
     // Cuts: knots of these functions strictly inside the leaf, per axis.
     std::array<std::vector<int>, 3> cuts;
@@ -275,18 +278,16 @@ double TSpline::basis(int i, const Eigen::Vector3d& u) const {
 }
 
 std::vector<int> TSpline::candidates(const Eigen::Vector3d& x) const {
-  Index3 b0, b1;
+  Index3 first, last;  // the unit cells whose closed boxes hold x
   for (int a = 0; a < 3; ++a) {
-    b0[a] = std::clamp(static_cast<int>(std::ceil(x[a])) - 1, 0, root_side_ - 1) / bucket_side_;
-    b1[a] = std::clamp(static_cast<int>(std::floor(x[a])), 0, root_side_ - 1) / bucket_side_;
+    first[a] = std::clamp(static_cast<int>(std::ceil(x[a])) - 1, 0, root_side_ - 1);
+    last[a] = std::clamp(static_cast<int>(std::floor(x[a])), 0, root_side_ - 1);
   }
   std::vector<int> out;
-  for (int z = b0[2]; z <= b1[2]; ++z)
-    for (int y = b0[1]; y <= b1[1]; ++y)
-      for (int xb = b0[0]; xb <= b1[0]; ++xb) {
-        const auto& v = bucket_functions_[xb + buckets_ * (y + buckets_ * z)];
-        out.insert(out.end(), v.begin(), v.end());
-      }
+  for_each_bucket(first, last, bucket_side_, buckets_, [&](int b) {
+    const auto& v = bucket_functions_[b];
+    out.insert(out.end(), v.begin(), v.end());
+  });
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;

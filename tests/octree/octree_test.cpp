@@ -7,45 +7,18 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <set>
 #include <string>
 #include <tuple>
 
 #include "core/errors.h"
+#include "octree/refine.h"
 
 using namespace volts;
 using namespace volts::octree;
 
 namespace {
-
-bool sphere_crosses(const Cell& c, const Vec3& centre, double r) {
-  double near = 0, far = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double d = std::max({c.unit_lo[a] - centre[a], 0.0, centre[a] - c.unit_hi[a]});
-    const double e = std::max(std::abs(centre[a] - c.unit_lo[a]), std::abs(centre[a] - c.unit_hi[a]));
-    near += d * d;
-    far += e * e;
-  }
-  return std::sqrt(near) <= r && r <= std::sqrt(far);
-}
-
-bool holds(const Cell& c, const Vec3& q) {
-  for (int a = 0; a < 3; ++a)
-    if (q[a] < c.unit_lo[a] || q[a] > c.unit_hi[a]) return false;
-  return true;
-}
-
-// Deterministic pseudo-random split decision per cell (splitmix64 of seed, level and corner).
-bool random_split(const Cell& c, std::uint64_t seed, double p) {
-  std::uint64_t x = seed * 0x9E3779B97F4A7C15ull + std::uint64_t(c.level) * 0xBF58476D1CE4E5B9ull +
-                    (std::uint64_t(c.lo[0]) << 40) + (std::uint64_t(c.lo[1]) << 20) + std::uint64_t(c.lo[2]);
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  x ^= x >> 31;
-  return (x >> 11) * 0x1.0p-53 < p;
-}
 
 using Key = std::tuple<int, int, int, int>;  // level, lo
 Key key_of(const Cell& c) { return {c.level, c.lo[0], c.lo[1], c.lo[2]}; }
@@ -317,7 +290,7 @@ TEST(Octree, UnbalancedRefinementIsDetected) {
   // (Toward a single root corner the refinement is graded by itself: that case is in PointFamily.)
   for (const Vec3& q : {Vec3{0.49, 0.3, 0.3}, Vec3{0.499, 0.749, 0.26}}) {
     Octree t(OctreeParams{5});
-    t.refine([&](const Cell& c) { return holds(c, q); });
+    refine_toward_point(t, q);
     const CheckResult r = check(t);
     EXPECT_TRUE(r.tiles());
     EXPECT_FALSE(r.ok());
@@ -356,11 +329,11 @@ TEST(Octree, SphereSurfaceFamily) {
     SCOPED_TRACE("max_level " + std::to_string(max_level) + " r " + std::to_string(r));
     const Vec3 centre{0.52, 0.47, 0.5};
     Octree t(OctreeParams{max_level});
-    t.refine([&](const Cell& c) { return sphere_crosses(c, centre, r); });
+    refine_toward_sphere(t, centre, r);
     // The deepest leaves are the ones the sphere crosses; leaves of other levels miss it.
     for (const Cell& c : t.leaves())
       if (c.level < max_level) {
-        EXPECT_FALSE(sphere_crosses(c, centre, r));
+        EXPECT_FALSE(crosses_sphere(c, centre, r));
       }
     expect_balance_contract(t, max_level <= 4);
   }
@@ -369,7 +342,7 @@ TEST(Octree, SphereSurfaceFamily) {
 TEST(Octree, PointFamily) {
   for (const Vec3& q : {Vec3{1, 1, 1}, Vec3{0, 0.5, 1}, Vec3{0.5, 0.5, 0.5}, Vec3{0.13, 0.81, 0.4}}) {
     Octree t(OctreeParams{4});
-    t.refine([&](const Cell& c) { return holds(c, q); });
+    refine_toward_point(t, q);
     expect_balance_contract(t, true);
   }
 }
@@ -396,8 +369,8 @@ TEST(Octree, RandomPredicates) {
 TEST(Octree, RefineAfterBalanceKeepsContract) {
   // Refinement is incremental: refine, balance, refine elsewhere, balance again.
   Octree t(OctreeParams{5});
-  t.refine([](const Cell& c) { return holds(c, {0.1, 0.1, 0.1}); });
+  refine_toward_point(t, {0.1, 0.1, 0.1});
   t.balance();
-  t.refine([](const Cell& c) { return holds(c, {0.9, 0.2, 0.75}); });
+  refine_toward_point(t, {0.9, 0.2, 0.75});
   expect_balance_contract(t, false);
 }

@@ -8,14 +8,14 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <functional>
-#include <random>
 #include <string>
 
+#include "common/octree_families.h"
 #include "core/errors.h"
+#include "octree/refine.h"
 
 using namespace volts;
 using namespace volts::tspline;
@@ -26,44 +26,9 @@ namespace {
 
 constexpr double kTol = 1e-12;
 
-bool random_split(const Cell& c, std::uint64_t seed, double p) {
-  std::uint64_t x = seed * 0x9E3779B97F4A7C15ull + std::uint64_t(c.level) * 0xBF58476D1CE4E5B9ull +
-                    (std::uint64_t(c.lo[0]) << 40) + (std::uint64_t(c.lo[1]) << 20) + std::uint64_t(c.lo[2]);
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  x ^= x >> 31;
-  return (x >> 11) * 0x1.0p-53 < p;
-}
-
-bool toward_point(const Cell& c) {
-  const octree::Vec3 q{0.3, 0.61, 0.77};
-  for (int a = 0; a < 3; ++a)
-    if (q[a] < c.unit_lo[a] || q[a] > c.unit_hi[a]) return false;
-  return true;
-}
-
-bool toward_plane(const Cell& c) {  // x + 2y - z = 0.7
-  double mn = 1e9, mx = -1e9;
-  for (int k = 0; k < 8; ++k) {
-    const double s = (k & 1 ? c.unit_hi[0] : c.unit_lo[0]) + 2 * (k & 2 ? c.unit_hi[1] : c.unit_lo[1]) -
-                     (k & 4 ? c.unit_hi[2] : c.unit_lo[2]) - 0.7;
-    mn = std::min(mn, s);
-    mx = std::max(mx, s);
-  }
-  return mn <= 0 && mx >= 0;
-}
-
-bool toward_sphere(const Cell& c) {  // cells meeting |x - m| = 0.3
-  const octree::Vec3 m{0.45, 0.5, 0.55};
-  double near = 0, far = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double d = std::max({c.unit_lo[a] - m[a], 0.0, m[a] - c.unit_hi[a]});
-    const double e = std::max(std::abs(m[a] - c.unit_lo[a]), std::abs(m[a] - c.unit_hi[a]));
-    near += d * d;
-    far += e * e;
-  }
-  return std::sqrt(near) <= 0.3 && 0.3 <= std::sqrt(far);
-}
+using test::toward_plane;
+using test::toward_point;
+using test::toward_sphere;
 
 struct Case {
   std::string name;
@@ -77,7 +42,7 @@ std::vector<Case> cases() {
                            {"sphere", 4, toward_sphere}};
   for (std::uint64_t seed = 1; seed <= 6; ++seed)
     out.push_back({"random" + std::to_string(seed), seed <= 3 ? 3 : 4,
-                   [seed](const Cell& c) { return c.level == 0 || random_split(c, seed, seed <= 3 ? 0.4 : 0.2); }});
+                   [seed](const Cell& c) { return c.level == 0 || octree::random_split(c, seed, seed <= 3 ? 0.4 : 0.2); }});
   return out;
 }
 
@@ -97,22 +62,6 @@ void expect_refines(const Octree& coarse, const Octree& fine, const std::string&
     EXPECT_LE(o.level, c.level) << name;
     for (int a = 0; a < 3; ++a) EXPECT_TRUE(o.lo[a] <= c.lo[a] && c.hi()[a] <= o.hi()[a]) << name;
   }
-}
-
-// Max |Σ N_i g_i - u| and |Σ R_i g_i - u| at random points (g: Greville points).
-std::pair<double, double> identity_errors(const TSpline& ts, int samples, unsigned seed) {
-  const std::vector<Eigen::Vector3d> g = greville_points(ts);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  double poly = 0, rat = 0;
-  for (int s = 0; s < samples; ++s) {
-    const Eigen::Vector3d u(U(rng), U(rng), U(rng));
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    for (const auto& [i, v] : ts.basis(u)) x += v * g[i];
-    poly = std::max(poly, (x - u).cwiseAbs().maxCoeff());
-    rat = std::max(rat, (ts.evaluate(g, u) - u).cwiseAbs().maxCoeff());
-  }
-  return {poly, rat};
 }
 
 // One level of refinement (max level 4) of the box [lo, hi) of level-3 cells in a uniform level-3 tree.
@@ -147,7 +96,7 @@ TEST(Suitable, MakePartitionOfUnityOnEveryFamily) {
     EXPECT_LE(ts.partition_of_unity_error(), kTol) << name;
     EXPECT_EQ(ts.partition_of_unity_error(), rep.pou_error) << name;
     EXPECT_LE(greville_identity_error(ts), kTol) << name;
-    const auto [poly, rat] = identity_errors(ts, 25, 3);
+    const auto [poly, rat] = test::random_identity_errors(ts, 25, 3);
     EXPECT_LE(poly, kTol) << name;
     EXPECT_LE(rat, kTol) << name;
     EXPECT_TRUE(non_unity_leaves(ts, kTol).empty()) << name;

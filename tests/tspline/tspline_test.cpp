@@ -18,7 +18,9 @@
 
 #include "bezier/bernstein.h"
 #include "bezier/bspline.h"
+#include "common/octree_families.h"
 #include "core/errors.h"
+#include "octree/refine.h"
 
 using namespace volts;
 using namespace volts::tspline;
@@ -34,16 +36,6 @@ Octree uniform(int level) {
   Octree t(octree::OctreeParams{level});
   t.refine([](const Cell&) { return true; });
   return t;
-}
-
-// Deterministic pseudo-random split decision per cell (splitmix64 of seed, level and corner).
-bool random_split(const Cell& c, std::uint64_t seed, double p) {
-  std::uint64_t x = seed * 0x9E3779B97F4A7C15ull + std::uint64_t(c.level) * 0xBF58476D1CE4E5B9ull +
-                    (std::uint64_t(c.lo[0]) << 40) + (std::uint64_t(c.lo[1]) << 20) + std::uint64_t(c.lo[2]);
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  x ^= x >> 31;
-  return (x >> 11) * 0x1.0p-53 < p;
 }
 
 struct Family {
@@ -63,50 +55,18 @@ Family make(const std::string& name, Octree tree) {
 const std::vector<Family>& adaptive() {
   static const std::vector<Family> families = [] {
     std::vector<Family> out;
-    {  // toward a point
-      Octree t(octree::OctreeParams{4});
-      const octree::Vec3 q{0.3, 0.61, 0.77};
-      t.refine([&](const Cell& c) {
-        for (int a = 0; a < 3; ++a)
-          if (q[a] < c.unit_lo[a] || q[a] > c.unit_hi[a]) return false;
-        return true;
-      });
-      out.push_back(make("point", std::move(t)));
-    }
-    {  // toward the plane x + 2y - z = 0.7
-      Octree t(octree::OctreeParams{4});
-      t.refine([](const Cell& c) {
-        double mn = 1e9, mx = -1e9;
-        for (int k = 0; k < 8; ++k) {
-          const double x = k & 1 ? c.unit_hi[0] : c.unit_lo[0], y = k & 2 ? c.unit_hi[1] : c.unit_lo[1],
-                       z = k & 4 ? c.unit_hi[2] : c.unit_lo[2];
-          const double s = x + 2 * y - z - 0.7;
-          mn = std::min(mn, s);
-          mx = std::max(mx, s);
-        }
-        return mn <= 0 && mx >= 0;
-      });
-      out.push_back(make("plane", std::move(t)));
-    }
-    {  // toward the sphere |x - (0.45, 0.5, 0.55)| = 0.3
-      Octree t(octree::OctreeParams{4});
-      const octree::Vec3 m{0.45, 0.5, 0.55};
-      t.refine([&](const Cell& c) {
-        double near = 0, far = 0;
-        for (int a = 0; a < 3; ++a) {
-          const double d = std::max({c.unit_lo[a] - m[a], 0.0, m[a] - c.unit_hi[a]});
-          const double e = std::max(std::abs(m[a] - c.unit_lo[a]), std::abs(m[a] - c.unit_hi[a]));
-          near += d * d;
-          far += e * e;
-        }
-        return std::sqrt(near) <= 0.3 && 0.3 <= std::sqrt(far);
-      });
-      out.push_back(make("sphere", std::move(t)));
-    }
+    // Toward a point, a plane and a sphere surface (common/octree_families.h).
+    Octree point(octree::OctreeParams{4}), plane(octree::OctreeParams{4}), sphere(octree::OctreeParams{4});
+    point.refine(test::toward_point);
+    plane.refine(test::toward_plane);
+    sphere.refine(test::toward_sphere);
+    out.push_back(make("point", std::move(point)));
+    out.push_back(make("plane", std::move(plane)));
+    out.push_back(make("sphere", std::move(sphere)));
     for (std::uint64_t seed = 1; seed <= 8; ++seed) {
       Octree t(octree::OctreeParams{seed <= 4 ? 3 : 4});
       const double p = seed <= 4 ? 0.4 : 0.2;
-      t.refine([&](const Cell& c) { return c.level == 0 || random_split(c, seed, p); });
+      t.refine([&](const Cell& c) { return c.level == 0 || octree::random_split(c, seed, p); });
       out.push_back(make("random" + std::to_string(seed), std::move(t)));
     }
     return out;
