@@ -34,6 +34,12 @@ constexpr std::array<double, 3> kBoxHalf = {1.0, 0.75, 0.5};
 constexpr double kTorusMajor = 2.0;
 constexpr double kTorusMinor = 0.75;
 constexpr double kHoleRadius = 0.7;  // 0.35 x the cube side 2
+constexpr std::array<double, 3> kPlateHalf = {2.0, 1.5, 0.25};  // assembly (Liu et al. 2013, Fig. 1)
+constexpr std::array<double, 2> kPlateHoleCentre = {1.5, 1.0};   // the holes are at (+-1.5, +-1)
+constexpr double kPlateHoleRadius = 0.3;
+constexpr double kRingMajor = 0.8;     // the ring: a torus in the plane y = 0 (axis along y)
+constexpr double kRingMinor = 0.3;
+constexpr double kRingCentreZ = 0.95;  // its tube's centre circle dips 0.1 below the plate's top face
 constexpr double kConeRadius = 1.0;
 constexpr double kConeBase = -0.5;
 constexpr double kConeApex = 1.0;
@@ -74,6 +80,7 @@ class Soup {
  public:
   using Key = std::array<int, 4>;
 
+  std::size_t size() const { return points_.size(); }
   std::size_t add(const Point& p) {
     points_.push_back(p);
     return points_.size() - 1;
@@ -183,19 +190,28 @@ Mesh make_sphere(const ModelParams& p) {
   return soup.to_mesh("model 'sphere'");
 }
 
+/// Torus about the z axis through the origin: nu segments around the axis, nv around the tube, vertex (i, j)
+/// at the angles 2 pi i / nu and 2 pi j / nv (interpolated: on the exact surface), moved into place by
+/// `place` (a rotation and translation of (x, y, z), so the torus stays outward).
+void add_torus(Soup& soup, double major, double minor, int nu, int nv,
+               const std::function<Point(double x, double y, double z)>& place) {
+  const std::size_t first = soup.size();
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const auto u = unit_circle(i, nu), v = unit_circle(j, nv);
+      const double rho = major + minor * v[0];
+      soup.add(place(rho * u[0], rho * u[1], minor * v[1]));
+    }
+  const auto id = [&](int i, int j) -> std::size_t { return first + (i % nu) * nv + j % nv; };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) soup.quad(id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+}
+
 Mesh make_torus(const ModelParams& p) {
   const int nv = p.resolution;                                                // around the minor circle
   const int nu = std::max(3, rounded(p.resolution * kTorusMajor / kTorusMinor));  // around the axis
   Soup soup;
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const auto u = unit_circle(i, nu), v = unit_circle(j, nv);
-      const double rho = kTorusMajor + kTorusMinor * v[0];
-      soup.add(Point(rho * u[0], rho * u[1], kTorusMinor * v[1]));
-    }
-  const auto id = [&](int i, int j) -> std::size_t { return (i % nu) * nv + j % nv; };
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) soup.quad(id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+  add_torus(soup, kTorusMajor, kTorusMinor, nu, nv, [](double x, double y, double z) { return Point(x, y, z); });
   return soup.to_mesh("model 'torus'");
 }
 
@@ -225,13 +241,14 @@ Mesh make_tetrahedron(const ModelParams& p) {
   return soup.to_mesh("model 'tetrahedron'");
 }
 
-/// A ring of `count` vertices on the circle of `radius` about the z axis at height z, at angles
-/// 2 pi k / count (counter-clockwise about +z).
-std::vector<std::size_t> add_ring(Soup& soup, int count, double radius, double z) {
+/// A ring of `count` vertices on the circle of `radius` about the vertical axis through `centre` (x, y) at
+/// height z, at angles 2 pi k / count (counter-clockwise about +z).
+std::vector<std::size_t> add_ring(Soup& soup, int count, double radius, double z,
+                                  const std::array<double, 2>& centre = {0.0, 0.0}) {
   std::vector<std::size_t> ring(count);
   for (int k = 0; k < count; ++k) {
     const auto [c, s] = unit_circle(k, count);
-    ring[k] = soup.add(Point(radius * c, radius * s, z));
+    ring[k] = soup.add(Point(centre[0] + radius * c, centre[1] + radius * s, z));
   }
   return ring;
 }
@@ -317,59 +334,138 @@ Mesh canonical(const Mesh& mesh, const std::string& source) {
   return out;
 }
 
-/// Splits each of the 12 edges of the cube [-1,1]^3 in `mesh` (corner to corner, untouched by the Boolean)
-/// into `segments` equal parts and triangulates the faces beside them.
-void split_cube_edges(Mesh& mesh, int segments) {
-  std::vector<Mesh::Halfedge_index> cube_edges;
+/// Splits every edge of `mesh` lying on one of the 12 edges of the box [-half, half] (two coordinates at
+/// +-half on both ends; the Boolean leaves them alone) into segments(length) equal parts, exactly symmetric,
+/// and triangulates the faces beside them.
+void split_box_edges(Mesh& mesh, const std::array<double, 3>& half, const std::function<int(double)>& segments) {
+  std::vector<Mesh::Halfedge_index> box_edges;
   for (const auto e : mesh.edges()) {
     const Point &a = mesh.point(mesh.vertex(e, 0)), &b = mesh.point(mesh.vertex(e, 1));
-    int same = 0, corners = 0;
-    for (int i = 0; i < 3; ++i) {
-      same += a[i] == b[i];
-      corners += std::abs(a[i]) == 1 && std::abs(b[i]) == 1;
-    }
-    if (corners == 3 && same == 2) cube_edges.push_back(mesh.halfedge(e));
+    int on = 0;
+    for (int i = 0; i < 3; ++i) on += a[i] == b[i] && std::abs(a[i]) == half[i];
+    if (on == 2) box_edges.push_back(mesh.halfedge(e));
   }
-  for (const auto h : cube_edges) {
+  for (const auto h : box_edges) {
     const Point a = mesh.point(mesh.source(h)), b = mesh.point(mesh.target(h));
     const int axis = a.x() != b.x() ? 0 : a.y() != b.y() ? 1 : 2;
-    for (int k = 1; k < segments; ++k) {  // h keeps its target: each split inserts after the last point
+    const double mid = (a[axis] + b[axis]) / 2, half_length = std::abs(b[axis] - a[axis]) / 2;
+    const int m = segments(2 * half_length);
+    for (int k = 1; k < m; ++k) {  // h keeps its target: each split inserts after the last point
       std::array<double, 3> x = {a.x(), a.y(), a.z()};
-      x[axis] = lattice_coordinate(a[axis] < 0 ? k : segments - k, segments, 1.0);
+      x[axis] = mid + lattice_coordinate(a[axis] < b[axis] ? k : m - k, m, half_length);
       mesh.point(mesh.target(CGAL::Euler::split_edge(h, mesh))) = Point(x[0], x[1], x[2]);
     }
   }
   PMP::triangulate_faces(mesh);
 }
 
-/// Isotropic remeshing of the cube with a hole to edge length h. Constrained edges: the sharp ones, between
-/// faces of different cube planes or of a plane and the wall (told exactly by coordinates, where dihedral
-/// angles of thin triangles are not reliable), and the vertical creases of the hole's prism (else the
-/// remeshed wall would cut across them and shrink the hole). Their ends, the cube's and the rims' corners,
-/// join three constrained edges, so the remesher keeps them in place: corners, cube edges and rim polygons
-/// stay exact, and the volume stays that of the cube minus the prism.
-void remesh_cube_with_hole(Mesh& mesh, double h) {
-  const auto plane_of = [&](Mesh::Face_index f) {
-    for (int a = 0; a < 3; ++a)
-      for (const double side : {-1.0, 1.0}) {
-        bool on = true;
-        for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) on = on && mesh.point(v)[a] == side;
-        if (on) return 2 * a + (side > 0);
-      }
-    return -1;  // the hole's wall
-  };
+/// The odd part of the number of segments of length about h in `length`: the remesher halves constrained
+/// edges longer than 4/3 h, so an edge split into the odd part (few thin triangles, fast) ends in exactly
+/// that many segments.
+int odd_segments(double length, double h) {
+  int n = std::max(1, rounded(length / h));
+  while (n % 2 == 0) n /= 2;
+  return n;
+}
+
+/// Which plane of the box [-half, half] the face lies on (2 axis + (side > 0)), or -1, told exactly by
+/// coordinates (dihedral angles of thin triangles are not reliable).
+int box_plane_of(const Mesh& mesh, Mesh::Face_index f, const std::array<double, 3>& half) {
+  for (int a = 0; a < 3; ++a)
+    for (const double side : {-half[a], half[a]}) {
+      bool on = true;
+      for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) on = on && mesh.point(v)[a] == side;
+      if (on) return 2 * a + (side > 0);
+    }
+  return -1;
+}
+
+/// Isotropic remeshing to edge length h of a solid whose faces fall into parts (part(f): a box plane, a
+/// hole's wall, ...). Constrained edges: those between faces of different parts (the sharp ones) and, in
+/// part -1 (the walls of vertical prisms), the vertical edges (the prism's creases: else the remeshed wall
+/// would cut across them and shrink the hole). Constrained edges may be split and collapsed along
+/// themselves; a vertex joining three of them (a box corner, a rim corner) stays in place, so box edges
+/// and rim polygons stay exact. With `project_per_part`, moved vertices are projected back onto their own
+/// part only (else a vertex beside a concave crease may land on the other surface).
+void remesh_keeping_creases(Mesh& mesh, double h, const std::function<int(Mesh::Face_index)>& part,
+                            bool project_per_part) {
+  auto part_map = mesh.add_property_map<Mesh::Face_index, int>("f:part", -1).first;
+  for (const auto f : mesh.faces()) put(part_map, f, part(f));
   auto constrained = mesh.add_property_map<Mesh::Edge_index, bool>("e:constrained", false).first;
   for (const auto e : mesh.edges()) {
-    const int p0 = plane_of(mesh.face(mesh.halfedge(e, 0))), p1 = plane_of(mesh.face(mesh.halfedge(e, 1)));
+    const int p0 = part_map[mesh.face(mesh.halfedge(e, 0))], p1 = part_map[mesh.face(mesh.halfedge(e, 1))];
     const Point &a = mesh.point(mesh.vertex(e, 0)), &b = mesh.point(mesh.vertex(e, 1));
     put(constrained, e, p0 != p1 || (p0 == -1 && a.x() == b.x() && a.y() == b.y()));
   }
-  PMP::isotropic_remeshing(faces(mesh), h, mesh,
-                           CGAL::parameters::number_of_iterations(5)
-                               .edge_is_constrained_map(constrained)
-                               .protect_constraints(false));
+  const auto np =
+      CGAL::parameters::number_of_iterations(5).edge_is_constrained_map(constrained).protect_constraints(false);
+  if (project_per_part)
+    PMP::isotropic_remeshing(faces(mesh), h, mesh, np.face_patch_map(part_map));
+  else
+    PMP::isotropic_remeshing(faces(mesh), h, mesh, np);
   mesh.remove_property_map(constrained);
+  mesh.remove_property_map(part_map);
   mesh.collect_garbage();
+}
+
+/// Lawson flips in the planes of the box [-half, half]: an edge between two faces of one plane whose
+/// opposite angles sum to more than 180 degrees is flipped until none is, so each plane's triangulation
+/// is the Delaunay one of its vertices, which has the largest smallest angle (the remesher flips for
+/// valence, and leaves angles below 20 degrees beside rims close to a plate edge). Box edges, rims and
+/// other constrained edges lie between different parts and are never flipped.
+void make_planes_delaunay(Mesh& mesh, const std::array<double, 3>& half) {
+  const auto cot = [&](Mesh::Vertex_index apex, Mesh::Vertex_index p, Mesh::Vertex_index q) {
+    const Vector u = mesh.point(p) - mesh.point(apex), v = mesh.point(q) - mesh.point(apex);
+    return (u * v) / std::sqrt(CGAL::cross_product(u, v).squared_length());
+  };
+  for (bool flipped = true; flipped;) {
+    flipped = false;
+    for (const auto e : mesh.edges()) {
+      const auto h = mesh.halfedge(e), o = mesh.opposite(h);
+      const int plane = box_plane_of(mesh, mesh.face(h), half);
+      if (plane < 0 || box_plane_of(mesh, mesh.face(o), half) != plane) continue;
+      const auto a = mesh.source(h), c = mesh.target(h);
+      const auto b = mesh.target(mesh.next(h)), d = mesh.target(mesh.next(o));
+      if (cot(b, c, a) + cot(d, a, c) >= -1e-12 || mesh.halfedge(b, d) != Mesh::null_halfedge()) continue;
+      CGAL::Euler::flip_edge(h, mesh);
+      flipped = true;
+    }
+  }
+}
+
+/// Closed prism inscribed in the vertical cylinder of `radius` about `centre` (x, y): `sides` sides (a
+/// multiple of 4 puts corners on the axis lines through the centre), rings at z = lattice_coordinate(k,
+/// segments, half_height) for k = -1 .. segments + 1, so the rings at z = +-half_height are its own
+/// polygons and the prism reaches one segment beyond.
+Mesh make_prism(const std::array<double, 2>& centre, double radius, int sides, int segments, double half_height,
+                const std::string& source) {
+  Soup soup;
+  std::vector<std::size_t> below;
+  for (int k = -1; k <= segments + 1; ++k) {
+    const double z = lattice_coordinate(k, segments, half_height);
+    const auto ring = add_ring(soup, sides, radius, z, centre);
+    if (k == -1)
+      add_fan(soup, soup.add(Point(centre[0], centre[1], z)), ring, true);
+    else
+      add_band(soup, below, ring, true);  // lower ring as "inner": flip to face outward
+    below = ring;
+  }
+  add_fan(soup, soup.add(Point(centre[0], centre[1], lattice_coordinate(segments + 1, segments, half_height))), below,
+          false);
+  return soup.to_mesh(source);
+}
+
+enum class BooleanOp { kUnion, kDifference };
+
+/// a op b by corefinement (both are corefined in place), in canonical order.
+/// Throws core::NumericalError "model 'NAME': the Boolean WHAT failed".
+Mesh boolean(Mesh& a, Mesh& b, BooleanOp op, const std::string& model, const std::string& what) {
+  Mesh out;
+  const bool ok = op == BooleanOp::kUnion ? PMP::corefine_and_compute_union(a, b, out)
+                                          : PMP::corefine_and_compute_difference(a, b, out);
+  if (!ok) throw core::NumericalError("model '" + model + "': the Boolean " + what + " failed");
+  return canonical(out, "Boolean " + std::string(op == BooleanOp::kUnion ? "union" : "difference") + " of model '" +
+                            model + "'");
 }
 
 /// Cube [-1,1]^3 minus the prism inscribed in the cylinder of radius kHoleRadius along z, by
@@ -390,32 +486,92 @@ Mesh make_cube_with_hole(const ModelParams& p) {
   // z = -1 and 1: the rims are its own polygons. A multiple of 8 segments (corners on the diagonals), at
   // least 16 (the hole's vertical edges must stay below the 30 degree feature angle).
   const int nc = 8 * std::max(2, rounded(2 * kPi * kHoleRadius / h / 8));
-  Soup cylinder_soup;
-  std::vector<std::size_t> below;
-  for (int k = -1; k <= n + 1; ++k) {
-    const double z = lattice_coordinate(k, n, 1.0);
-    const auto ring = add_ring(cylinder_soup, nc, kHoleRadius, z);
-    if (k == -1)
-      add_fan(cylinder_soup, cylinder_soup.add(Point(0, 0, z)), ring, true);
-    else
-      add_band(cylinder_soup, below, ring, true);  // lower ring as "inner": flip to face outward
-    below = ring;
-  }
-  add_fan(cylinder_soup, cylinder_soup.add(Point(0, 0, lattice_coordinate(n + 1, n, 1.0))), below, false);
-  Mesh cylinder = cylinder_soup.to_mesh("cylinder of model 'cube-with-hole'");
+  Mesh cylinder = make_prism({0.0, 0.0}, kHoleRadius, nc, n, 1.0, "cylinder of model 'cube-with-hole'");
+  Mesh result = boolean(cube, cylinder, BooleanOp::kDifference, "cube-with-hole", "difference of cube and cylinder");
 
-  Mesh difference;
-  if (!PMP::corefine_and_compute_difference(cube, cylinder, difference))
-    throw core::NumericalError("model 'cube-with-hole': the Boolean difference of cube and cylinder failed");
-  Mesh result = canonical(difference, "Boolean difference of model 'cube-with-hole'");
-
-  // The remesher halves constrained edges longer than 4/3 h: split the cube's edges into the odd part of n
-  // (few thin triangles, fast) and it halves them down to exactly n segments.
-  int odd = n;
-  while (odd % 2 == 0) odd /= 2;
-  split_cube_edges(result, odd);
-  remesh_cube_with_hole(result, h);
+  // Each cube edge is split into the odd part of n; the remesher halves it down to exactly n segments.
+  const std::array<double, 3> half = {1.0, 1.0, 1.0};
+  split_box_edges(result, half, [&](double length) { return odd_segments(length, h); });
+  remesh_keeping_creases(result, h, [&](Mesh::Face_index f) { return box_plane_of(result, f, half); }, false);
   return canonical(result, "model 'cube-with-hole'");
+}
+
+/// The assembly's plate [-half, half] as a soup. Its top and bottom faces are cut by the lines x = 0,
+/// +-1.5 and y = 0, +-1 (through the hole centres) into 16 rectangles, each with one hole centre as a
+/// corner and split along the diagonal that misses it (at least 0.35 from it, beyond the hole's radius):
+/// the only top edges crossing a rim are the axis lines through its centre, which meet it exactly at
+/// corners of the rim polygon, so the Boolean puts no vertex near a rim corner. The ring's foot (|x| <
+/// 0.85, |y| < 0.29) is crossed by the lines x = 0 and y = 0 only.
+Mesh make_plate() {
+  const std::array<double, 5> xs = {-kPlateHalf[0], -kPlateHoleCentre[0], 0.0, kPlateHoleCentre[0], kPlateHalf[0]};
+  const std::array<double, 5> ys = {-kPlateHalf[1], -kPlateHoleCentre[1], 0.0, kPlateHoleCentre[1], kPlateHalf[1]};
+  const std::array<double, 2> zs = {-kPlateHalf[2], kPlateHalf[2]};
+  Soup soup;
+  const auto id = [&](int i, int j, int k) { return soup.weld({i, j, k, 0}, Point(xs[i], ys[j], zs[k])); };
+  const auto hole_centre = [&](int i, int j) { return (i == 1 || i == 3) && (j == 1 || j == 3); };
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        const bool flip = k == 0;  // counter-clockwise seen from outside: from below on the bottom
+        const auto p00 = id(i, j, k), p10 = id(i + 1, j, k), p11 = id(i + 1, j + 1, k), p01 = id(i, j + 1, k);
+        if (hole_centre(i, j) || hole_centre(i + 1, j + 1)) {
+          soup.triangle(p00, p10, p01, flip);
+          soup.triangle(p10, p11, p01, flip);
+        } else {
+          soup.triangle(p00, p10, p11, flip);
+          soup.triangle(p00, p11, p01, flip);
+        }
+      }
+  for (int m = 0; m < 4; ++m) {
+    soup.quad(id(4, m, 0), id(4, m + 1, 0), id(4, m + 1, 1), id(4, m, 1));  // x = +2
+    soup.quad(id(0, m + 1, 0), id(0, m, 0), id(0, m, 1), id(0, m + 1, 1));  // x = -2
+    soup.quad(id(m + 1, 4, 0), id(m, 4, 0), id(m, 4, 1), id(m + 1, 4, 1));  // y = +1.5
+    soup.quad(id(m, 0, 0), id(m + 1, 0, 0), id(m + 1, 0, 1), id(m, 0, 1));  // y = -1.5
+  }
+  return soup.to_mesh("plate of model 'assembly'");
+}
+
+/// Liu et al. 2013, Fig. 1: the plate minus four prisms (the holes) union a torus standing on the plate
+/// (the ring), by corefinement, then remeshed to the segment length 2 / resolution with the plate's edges,
+/// the rims, the holes' prism creases and the ring's foot kept.
+Mesh make_assembly(const ModelParams& p) {
+  const std::string name = "assembly";
+  const double h = 2.0 / p.resolution;
+  const auto multiple_of_4 = [&](double length) { return 4 * std::max(1, rounded(length / h / 4)); };
+
+  Mesh result = make_plate();
+  const int sides = multiple_of_4(2 * kPi * kPlateHoleRadius);
+  const int segments = std::max(1, rounded(2 * kPlateHalf[2] / h));
+  for (const double sx : {-1.0, 1.0})
+    for (const double sy : {-1.0, 1.0}) {
+      Mesh prism = make_prism({sx * kPlateHoleCentre[0], sy * kPlateHoleCentre[1]}, kPlateHoleRadius, sides, segments,
+                              kPlateHalf[2], "hole of model 'assembly'");
+      result = boolean(result, prism, BooleanOp::kDifference, name, "difference of plate and hole");
+    }
+
+  // The ring: a torus about the y axis through (0, 0, kRingCentreZ), segments of about h.
+  Soup ring_soup;
+  const int nv = multiple_of_4(2 * kPi * kRingMinor);
+  const int nu = 4 * std::max(1, rounded(nv * kRingMajor / kRingMinor / 4));
+  add_torus(ring_soup, kRingMajor, kRingMinor, nu, nv,
+            [](double x, double y, double z) { return Point(x, -z, kRingCentreZ + y); });  // a rotation about x
+  Mesh ring = ring_soup.to_mesh("ring of model 'assembly'");
+  result = boolean(result, ring, BooleanOp::kUnion, name, "union of plate and ring");
+
+  split_box_edges(result, kPlateHalf, [&](double length) { return odd_segments(length, h); });
+  // Parts: the plate's six planes, the ring (above the top face), the holes' walls (-1, vertical prisms).
+  remesh_keeping_creases(
+      result, h,
+      [&](Mesh::Face_index f) {
+        const int plane = box_plane_of(result, f, kPlateHalf);
+        if (plane >= 0) return plane;
+        for (const auto v : CGAL::vertices_around_face(result.halfedge(f), result))
+          if (result.point(v).z() > kPlateHalf[2]) return 6;
+        return -1;
+      },
+      true);
+  make_planes_delaunay(result, kPlateHalf);
+  return canonical(result, "model '" + name + "'");
 }
 
 struct Model {
@@ -438,6 +594,10 @@ const std::vector<Model>& models() {
       {"tetrahedron", "regular tetrahedron with corners (1,1,1),(1,-1,-1),(-1,1,-1),(-1,-1,1) (genus 0)",
        make_tetrahedron},
       {"cone", "cone about z, base radius 1 at z=-0.5, apex at z=1 (genus 0, sharp rim and apex)", make_cone},
+      {"assembly",
+       "plate [-2,2]x[-1.5,1.5]x[-0.25,0.25] with four through holes of radius 0.3 and a ring (radii 0.8, 0.3) "
+       "standing on it (genus 5; Liu et al. 2013, Fig. 1)",
+       make_assembly},
   };
   return table;
 }

@@ -12,10 +12,20 @@
 //   sphere         radius 1 (a cube grid projected onto the sphere).
 //   tetrahedron    regular, corners (1,1,1), (1,-1,-1), (-1,1,-1), (-1,-1,1); each face a triangle grid.
 //   cone           axis z, base radius 1 at z = -0.5, apex at z = 1.
-// Curved surfaces are interpolated: vertices lie on the exact surface (the hole: on its prism), so
+//   assembly       Liu et al. 2013, Fig. 1: plate [-2,2] x [-1.5,1.5] x [-0.25,0.25] minus four through holes
+//                  along z of radius 0.3 centred at (+-1.5, +-1), union a ring: the torus about the y axis
+//                  through (0, 0, 0.95), major radius 0.8, minor 0.3 (x in [-1.1,1.1], top at z = 2.05; its
+//                  tube's centre circle dips 0.1 into the plate, the ring's hole stays 0.2 above it). Genus 5.
+//                  Boolean operations (CGAL corefinement) then remeshing, as cube-with-hole; the holes are
+//                  prisms inscribed in the cylinders, with a multiple of 4 sides of about the segment length.
+//                  Smallest triangle angle 20-25 degrees up to resolution 32; finer, slivers appear where the
+//                  ring meets the plate (17 degrees at 48, 7 at 64: the remesher keeps short edges there).
+// Curved surfaces are interpolated: vertices lie on the exact surface (the hole: on its prism; the
+// assembly's ring: on a torus polyhedron interpolating it, as remeshing projects onto it), so
 // volumes converge as O(1/resolution^2). Sharp edges (dihedral angle deviating from flat by more than
 // 30 degrees at resolution >= 16): the box-like models' edges, the hole's two rims, the cone's rim and
-// apex region; torus and sphere have none.
+// apex region, the assembly's plate edges, eight rims and the ring's foot (the closed curve where it
+// meets the top face, 55 to 130 degrees); torus and sphere have none.
 #pragma once
 
 #include <string>
@@ -31,12 +41,15 @@ struct ModelParams {
   /// Segments along the longest edge (box, bulged-box, cube-with-hole, tetrahedron) or around the
   /// smallest circle (torus, cone; sphere: rounded to a multiple of 4); in [4, 512]. The box's shorter
   /// edges get 0.75 and 0.5 times as many, so all segments are equal when it is a multiple of 4.
+  /// assembly: segment length 2 / resolution, as cube-with-hole's (the plate's long edge gets 2 x
+  /// resolution segments, each hole about 0.94 x resolution sides, as many around the ring's tube).
   int resolution = 16;
   /// bulged-box only: outward bulge of each face centre relative to half the face's shorter side; in [0, 0.35].
   double bulge = 0.15;
 };
 
-/// Names of all models, in a fixed order: box, bulged-box, torus, cube-with-hole, sphere, tetrahedron, cone.
+/// Names of all models, in a fixed order: box, bulged-box, torus, cube-with-hole, sphere, tetrahedron, cone,
+/// assembly.
 std::vector<std::string> model_names();
 
 /// One line describing the model (for --help). Throws core::ConfigError for an unknown name.
@@ -44,7 +57,8 @@ std::string model_description(const std::string& name);
 
 /// Builds the model. The same parameters always give the same mesh, vertex for vertex.
 /// Throws core::ConfigError for an unknown name ("unknown model 'x'; known: box, bulged-box, ...") or a
-/// resolution or bulge out of range; core::NumericalError if the Boolean operation of cube-with-hole fails.
+/// resolution or bulge out of range; core::NumericalError if a Boolean operation of cube-with-hole or
+/// assembly fails.
 surface::Mesh make_model(const ModelParams& params);
 
 }  // namespace volts::models
