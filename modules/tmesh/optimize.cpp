@@ -170,6 +170,9 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   if (params.sweeps < 0 || params.sweeps > 100) throw core::ConfigError("tmesh.optimize_sweeps must be in [0, 100], got " + std::to_string(params.sweeps));
   if (params.gauss_points < 1 || params.gauss_points > 10 || params.max_evaluations < 1)
     throw core::ConfigError("tmesh optimization: gauss_points must be in [1, 10] and max_evaluations >= 1");
+  if (!(params.min_gain >= 0 && params.min_gain <= 1) || !(params.min_fixed_rel >= 0 && params.min_fixed_rel <= 1) ||
+      params.patience < 1 || params.patience > 100)
+    throw core::ConfigError("tmesh optimization: min_gain and min_fixed_rel must be in [0, 1] and patience in [1, 100]");
   OptimizeResult r;
   Spline s(blocks);
   const bezier::CertifyParams cp;
@@ -184,6 +187,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     for (const auto& x : q) *worst = std::min(*worst, x.scaled), *invalid += x.valid ? 0 : 1;
   };
   summary(&r.min_before, &r.invalid_before);
+  double last_worst = r.min_before;
+  int last_invalid = r.invalid_before, stalled = 0;
   for (int sweep = 0; sweep < params.sweeps; ++sweep) {
     std::vector<std::size_t> bad;
     for (std::size_t e = 0; e < s.size(); ++e)
@@ -328,6 +333,18 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     }
     if (moved == 0) {
       r.stop_reason = "no_move";
+      break;
+    }
+    const bool progress = last_invalid > 0
+                              ? last_invalid - invalid >= std::max(1.0, params.min_fixed_rel * last_invalid)
+                              : worst >= last_worst + params.min_gain;
+    stalled = progress ? 0 : stalled + 1;
+    last_worst = std::max(last_worst, worst), last_invalid = std::min(last_invalid, invalid);
+    if (stalled >= params.patience) {
+      r.stop_reason = "stalled";
+      core::log("optimization stalled: " + std::to_string(stalled) + " sweeps in a row made too little progress (fewer than " +
+                std::to_string(params.min_fixed_rel * 100) + " % of the invalid elements fixed, or a gain below " +
+                std::to_string(params.min_gain) + " in the worst scaled Jacobian)");
       break;
     }
   }

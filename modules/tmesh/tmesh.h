@@ -23,7 +23,9 @@ struct Params {
   int level = 3;   ///< uniform octree level: 2^level elements along each cube edge, plus the pillow layers [1, 7]
   int degree = 3;  ///< spline degree in each direction [1, 5]
   int pillow_layers = 1;    ///< element layers of the pillow under the surface (§5.2); 0 = none [0, 4]
-  int optimize_sweeps = 3;  ///< bound on sweeps of per-node worst-Jacobian optimization (§5.2; stops earlier when done); 0 = none [0, 100]
+  /// Bound on sweeps of per-node worst-Jacobian optimization (§5.2); it stops earlier when no element
+  /// is below 0.5, a sweep moves nothing, or two sweeps in a row stall (OptimizeParams); 0 = none [0, 100].
+  int optimize_sweeps = 40;
 };
 
 using Vec3 = std::array<double, 3>;

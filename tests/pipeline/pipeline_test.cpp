@@ -227,8 +227,8 @@ TEST(Pipeline, TorusRunsEndToEndAsARingOfFourCubes) {
   const core::Json& o = t["optimization"];
   EXPECT_EQ(o["not_certified_valid_after"], 0);
   const std::string stop = o["stop_reason"].get<std::string>();
-  EXPECT_TRUE(stop == "no_move" || stop == "sweep_bound" || stop == "no_element_below_target") << stop;
-  EXPECT_LE(o["sweeps"].get<int>(), 3);  // the configured bound (tmesh.optimize_sweeps default)
+  EXPECT_TRUE(stop == "no_move" || stop == "stalled" || stop == "no_element_below_target") << stop;
+  EXPECT_LE(o["sweeps"].get<int>(), 40);  // the configured bound (tmesh.optimize_sweeps default)
   EXPECT_GE(o["bezier_min_scaled_jacobian_after"].get<double>(), o["bezier_min_scaled_jacobian_before"].get<double>());
   EXPECT_EQ(x["certified_valid"], 4 * per_cube);
   EXPECT_EQ(x["certified_invalid"], 0);

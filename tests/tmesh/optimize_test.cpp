@@ -99,9 +99,49 @@ TEST(Optimize, SaysWhyItStopped) {
   EXPECT_LE(cut.nodes_moved, 3);
 }
 
+TEST(Optimize, StopsWhenSweepsStall) {
+  // A gain of 1 in the worst scaled Jacobian per sweep is impossible: with patience 1 the run stops
+  // after the first sweep once every element is valid (a sweep that fixes the last invalid
+  // elements counts as progress, hence at most 2), long before its bound of 40.
+  std::vector<tmesh::TMesh> ts = blocks(1);
+  tmesh::OptimizeParams op;
+  op.gauss_points = 2;
+  op.target = 0.9;
+  op.sweeps = 40;
+  op.min_gain = 1, op.patience = 1;
+  const tmesh::OptimizeResult r = tmesh::optimize(ts, op);
+  EXPECT_EQ(r.stop_reason, "stalled");
+  EXPECT_LE(r.sweeps, 2);
+  EXPECT_GT(r.nodes_moved, 0);
+  // The default rule on the same map: it keeps going while sweeps gain, ends for a reason other
+  // than the bound, and ends at least as well as one sweep.
+  std::vector<tmesh::TMesh> one = blocks(1), many = blocks(1);
+  op.min_gain = 1e-3, op.patience = 2;
+  op.sweeps = 1;
+  const tmesh::OptimizeResult r1 = tmesh::optimize(one, op);
+  op.sweeps = 40;
+  const tmesh::OptimizeResult rn = tmesh::optimize(many, op);
+  std::printf("one sweep: worst %g; up to 40: worst %g after %d sweeps (%s)\n", r1.min_after, rn.min_after, rn.sweeps, rn.stop_reason.c_str());
+  EXPECT_NE(rn.stop_reason, "sweep_bound");
+  EXPECT_LT(rn.sweeps, 40);
+  EXPECT_GE(rn.min_after, r1.min_after);
+  EXPECT_LE(rn.invalid_after, r1.invalid_after);
+}
+
 TEST(Optimize, ParametersOutOfRangeAreRefused) {
   std::vector<tmesh::TMesh> ts = blocks(0);
   tmesh::OptimizeParams op;
   op.sweeps = -1;
   EXPECT_THROW(tmesh::optimize(ts, op), core::ConfigError);
+  for (const double bad : {-0.1, 1.5}) {
+    tmesh::OptimizeParams g;
+    g.min_gain = bad;
+    EXPECT_THROW(tmesh::optimize(ts, g), core::ConfigError);
+    tmesh::OptimizeParams f;
+    f.min_fixed_rel = bad;
+    EXPECT_THROW(tmesh::optimize(ts, f), core::ConfigError);
+  }
+  tmesh::OptimizeParams p;
+  p.patience = 0;
+  EXPECT_THROW(tmesh::optimize(ts, p), core::ConfigError);
 }
