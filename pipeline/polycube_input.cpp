@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "polycube/difference.h"
 #include "polycube/embedding.h"
 #include "polycube/polycube.h"
+#include "polycube/structure.h"
 #include "stage_main.h"
 #include "surface/mesh_json.h"
 #include "tmesh/pillow.h"
@@ -102,6 +104,28 @@ tmesh::PolycubeMaps ring_maps(std::vector<Ring> list) {
   return m;
 }
 
+// The polycube structure the stage wrote (structure.h), if the file has one (files written before
+// it had none and are read as before): read, checked to be a polycube and to be the structure of
+// `kind` (its counts of tori, virtual components and, for one cube, cubes). The file was checked
+// when written, so any failure means it was edited or corrupted: InvalidInputError naming it.
+std::optional<polycube::Structure> read_structure(const std::string& in, const core::Json& j, const std::string& kind) {
+  if (!j.contains("structure")) return std::nullopt;
+  polycube::Structure s = polycube::structure_from_json(j["structure"], in);
+  try {
+    polycube::check(s);
+  } catch (const core::TopologyError& e) {
+    throw core::InvalidInputError(in + ": structure is not a polycube: " + e.what());
+  }
+  const core::Json f = polycube::report_figures(s);
+  const std::size_t rings = kind == "tori" && j.contains("rings") && j["rings"].is_array() ? j["rings"].size() : 0;
+  const std::size_t tori = kind == "torus" ? 1 : kind == "tori" ? rings : 0, virt = kind == "difference" ? 1 : 0;
+  const bool one_cube = kind == "cube" || kind == "difference";
+  if (f["tori"] != tori || f["virtual_components"] != virt || (one_cube && f["cubes"] != 1))
+    throw core::InvalidInputError(in + ": structure does not match kind '" + kind + "': it has " + f["cubes"].dump() + " cubes, " +
+                                  f["tori"].dump() + " tori and " + f["virtual_components"].dump() + " virtual components");
+  return s;
+}
+
 }  // namespace
 
 PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& params) {
@@ -109,8 +133,11 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
   PolycubeInput r;
   if (j.contains("kind") && !j["kind"].is_string()) throw core::InvalidInputError(in + ": polycube kind must be a string");
   const std::string kind = j.value("kind", std::string("cube"));
+  if (kind != "cube" && kind != "torus" && kind != "tori" && kind != "difference")
+    throw core::InvalidInputError(in + ": unknown polycube kind '" + kind + "'");
   r.kind = kind;
   r.surface = core::require(j, "surface", in);
+  const std::optional<polycube::Structure> structure = read_structure(in, j, kind);
   if (kind == "torus" || kind == "tori") {
     std::vector<Ring> rings;
     {
@@ -130,6 +157,11 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
     // A cube minus a through hole: the blocks around the hole (pillowed under the outer
     // faces and the walls alike), every point through the volume map.
     const polycube::DifferenceMap m = polycube::difference_from_json(core::require(j, "polycube", in), in);
+    if (structure) {
+      const auto& boxes = structure->virtual_components[0].boxes;
+      if (boxes.size() != 1 || boxes[0].lo != m.hole_lo || boxes[0].hi != m.hole_hi)
+        throw core::InvalidInputError(in + ": structure's virtual component is not the hole's box polycube.hole_lo/hole_hi");
+    }
     std::shared_ptr<volmap::Locator> locate;
     {
       core::LogSection s("volume map");
@@ -154,7 +186,6 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
     maps.polycube = [](int, const tmesh::Vec3& abc) { return abc; };
     return r;
   }
-  if (kind != "cube") throw core::InvalidInputError(in + ": unknown polycube kind '" + kind + "'");
   pipeline::check_integer_members(in, j);
   const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
   const classify::Classification c = classify::from_json(core::require(j, "classification", in), in);

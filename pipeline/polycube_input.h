@@ -20,9 +20,11 @@ struct PolycubeInput {
   tmesh::PolycubeMaps maps;       ///< owns (through shared pointers) the volume maps it calls
 };
 
-/// Reads and checks the file (header, kind, payload, the volume map's flipped tets). Difference
-/// blocks depend on params.level and params.pillow_layers. Throws core::InvalidInputError naming
-/// the file for malformed content, core::NumericalError if the volume map has flipped tets (the
+/// Reads and checks the file (header, kind, the polycube `structure` if present — parsed, checked
+/// with polycube::check and matched to the kind —, payload, the volume map's flipped tets).
+/// Difference blocks depend on params.level and params.pillow_layers. Throws
+/// core::InvalidInputError naming the file for malformed content (a structure that is no polycube
+/// included: the stage checked it before writing, so the file was edited), core::NumericalError if the volume map has flipped tets (the
 /// spline would fold), core::TopologyError if the T-mesh cannot be laid out on the polycube.
 PolycubeInput read_polycube_input(const std::string& path, const tmesh::Params& params);
 

@@ -1,14 +1,19 @@
-// volts-polycube: stage 3 (Liu et al. §4.2–4.3). Reads split.stage.json, builds the polycube and
-// maps the surface onto it; writes polycube.stage.json, polycube.vtp and polycube_mapped.vtp
-// (tori, two tori and differences also the volume map's tets: polycube_tets.vtu, polycube_tets_mapped.vtu).
+// volts-polycube: stage 3 (Liu et al. §4.2–4.3). Reads split.stage.json, builds the polycube
+// structure (polycube/structure.h) of split's decomposition and checks it, then maps the surface
+// onto the polycube; writes polycube.stage.json (with the structure), polycube_structure.vtu,
+// polycube.vtp and polycube_mapped.vtp (tori, two tori and differences also the volume map's tets:
+// polycube_tets.vtu, polycube_tets_mapped.vtu).
 #include <algorithm>
 #include <functional>
+#include <utility>
 
+#include "core/errors.h"
 #include "core/log.h"
 #include "polycube/difference.h"
 #include "polycube/embedding.h"
 #include "polycube/polycube.h"
 #include "polycube/rings.h"
+#include "polycube/structure.h"
 #include "volmap/volmap.h"
 #include "stage_main.h"
 #include "surface/mesh_json.h"
@@ -16,6 +21,135 @@
 using namespace volts;
 
 namespace {
+
+// ---- The polycube structure of split's decomposition ----------------------------------------
+
+std::string component_name(int c) { return "component " + std::to_string(c); }
+
+// The structure face of face f (split's order) of a torus cube. split's faces 0..3 run around the
+// tube through the cross section's corners q_0..q_3, (b, c) = (0,0), (1,0), (1,1), (0,1) in the ring
+// embedding's local frame (embedding.cpp), so they are c = 0, b = 1, c = 1, b = 0; faces 4 and 5
+// are the cross sections a = 0 and a = 1 (the ring runs along a, as tmesh's cubes).
+constexpr int kTorusFace[6] = {4, 3, 5, 2, 0, 1};
+
+// The face (split's order) of component c that is internal face `internal`, or (internal < 0)
+// that holds a fill triangle (the disk two tori meet on).
+int split_face(const split::Decomposition& d, int c, int internal, const std::string& who) {
+  const auto& faces = d.components[c].faces;
+  const auto& L = d.layout;
+  auto holds_fill = [&](const split::CubeFace& f) {
+    for (int p : f.patches)
+      if (p >= 0 && p < static_cast<int>(L.patches.size()))
+        for (int t : L.patches[p].triangles)
+          if (t >= 0 && t < static_cast<int>(L.filled.size()) && L.filled[t]) return true;
+    return false;
+  };
+  for (std::size_t f = 0; f < faces.size() && f < 6; ++f)
+    if (internal >= 0 ? faces[f].internal_face == internal : holds_fill(faces[f])) return static_cast<int>(f);
+  throw core::TopologyError(who + ": " + component_name(c) + " has no face " +
+                            (internal >= 0 ? "on internal face " + std::to_string(internal) : std::string("holding the filled disk")));
+}
+
+// The structure of split's decomposition (Liu et al. §4.2–4.3), cubes labelled after their
+// components: per torus a torus primitive of its n unit cubes in ring order along a, its ring
+// gluings those split's internal-face contacts give (so a ring split did not close, or closed out
+// of order, is check()'s error naming the cubes); a unit cube per cube component, each in its own
+// frame (split gives no boxes, so two of them are "not connected"); the hole of a difference (`hole`:
+// its box in the unit cube, as polycube.hole_lo/hole_hi) as a virtual component of its cube — the
+// hole's rims are that component's openings; two tori's filled disk as a non-conforming contact of
+// the ring faces holding it (a patch inside those faces, not a rectangle of both: no gluing).
+polycube::Structure decomposition_structure(const split::Decomposition& d, const polycube::DifferenceMap* hole) {
+  using polycube::Box;
+  using split::ComponentType;
+  const int nc = static_cast<int>(d.components.size());
+  polycube::Structure s;
+  std::vector<int> cube_of(static_cast<std::size_t>(nc), -1);
+  auto component = [&](int c, const std::string& who) {
+    if (c < 0 || c >= nc) throw core::TopologyError(who + " refers to component " + std::to_string(c) + " of " + std::to_string(nc));
+    return c;
+  };
+  for (std::size_t t = 0; t < d.tori.size(); ++t) {
+    const auto& ring = d.tori[t].components;
+    const std::string label = "torus " + std::to_string(t);
+    const std::size_t before = s.gluings.size();
+    const int p = polycube::add_torus(s, label, Box{}, 0, static_cast<int>(ring.size()));
+    s.gluings.resize(before);  // the ring's gluings are the contacts', below
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+      const int c = component(ring[k], label);
+      if (cube_of[c] >= 0 || d.components[c].type != ComponentType::torus_cube || d.components[c].torus != static_cast<int>(t))
+        throw core::TopologyError(label + " lists " + component_name(c) + ", which is not a torus cube of this torus only");
+      cube_of[c] = s.primitives[p].cubes[k];
+      s.cubes[cube_of[c]].label = component_name(c);
+    }
+  }
+  for (int c = 0; c < nc; ++c) {
+    const ComponentType type = d.components[c].type;
+    if (type == ComponentType::torus_cube && cube_of[c] < 0) throw core::TopologyError(component_name(c) + " is a torus cube in no torus");
+    if (type == ComponentType::cube) {
+      cube_of[c] = static_cast<int>(s.cubes.size());
+      polycube::add_cube(s, component_name(c), Box{});
+    }
+  }
+  for (int c = 0; c < nc; ++c) {
+    if (d.components[c].type != ComponentType::virtual_component) continue;
+    if (!hole || hole->virtual_component != c || hole->cube < 0 || hole->cube >= nc || cube_of[hole->cube] < 0)
+      throw core::TopologyError(component_name(c) + " is a virtual component; only the through hole of a difference (one cube minus one "
+                                "virtual component) is supported");
+    polycube::subtract(s, cube_of[hole->cube], component_name(c), {Box{hole->hole_lo, hole->hole_hi}});
+  }
+  for (const auto& x : d.contacts) {
+    const std::string who = "components " + std::to_string(x.a) + " and " + std::to_string(x.b) + " (" + x.via + " " + std::to_string(x.index) + ")";
+    component(x.a, who), component(x.b, who);
+    const auto& A = d.components[x.a];
+    const auto& B = d.components[x.b];
+    if (x.via == "internal_face" && A.torus >= 0 && B.torus >= 0) {
+      const int ca = cube_of[x.a], cb = cube_of[x.b];
+      const int fa = kTorusFace[split_face(d, x.a, x.index, who)], fb = kTorusFace[split_face(d, x.b, x.index, who)];
+      const auto plane = [&](int cube, int f) { return f % 2 ? s.cubes[cube].box.hi[f / 2] : s.cubes[cube].box.lo[f / 2]; };
+      polycube::Gluing g{ca, fa, cb, fb, polycube::face_rect(s.cubes[ca].box, fa), {}, -1};
+      if (fa / 2 == fb / 2) g.map.offset[fa / 2] = plane(cb, fb) - plane(ca, fa);  // else no translation: glue check names the cubes
+      if (g.map.offset != polycube::Point{0, 0, 0} && A.torus == B.torus) g.closes_torus = s.cubes[ca].primitive;
+      s.gluings.push_back(g);
+    } else if (x.via == "filled_patch" && (A.type == ComponentType::virtual_component) != (B.type == ComponentType::virtual_component)) {
+      continue;  // a hole's rim: the opening of the virtual component in its cube
+    } else if (x.via == "filled_patch" && A.torus >= 0 && B.torus >= 0 && A.torus != B.torus) {
+      polycube::add_contact(s, "disk (patch " + std::to_string(x.index) + ")", cube_of[x.a], kTorusFace[split_face(d, x.a, -1, who)],
+                            cube_of[x.b], kTorusFace[split_face(d, x.b, -1, who)]);
+    } else {
+      throw core::TopologyError(who + ": components meet on a cross section of their torus, on a hole's rim or on the disk between two "
+                                "tori; this contact is none of these");
+    }
+  }
+  return s;
+}
+
+// The structure, checked before anything is written: a component graph that is no polycube is a
+// TopologyError naming the components.
+polycube::Structure checked_structure(const split::Decomposition& d, const polycube::DifferenceMap* hole = nullptr) {
+  core::LogSection section("structure");
+  try {
+    polycube::Structure s = decomposition_structure(d, hole);
+    polycube::check(s);
+    const core::Json f = polycube::report_figures(s);
+    core::log_verbose("polycube structure: " + f.dump());
+    return s;
+  } catch (const core::TopologyError& e) {
+    throw core::TopologyError(std::string("polycube: split's decomposition cannot be realized as a polycube: ") + e.what());
+  }
+}
+
+// The stage file — kind, surface, classification and decomposition as split wrote them, the kind's
+// `members` and the structure — and polycube_structure.vtu; the report figures with the
+// structure's counts (cubes, tori, virtual_components, gluings, contacts).
+void write_stage(pipeline::StageContext& ctx, const core::Json& j, const std::string& kind, core::Json members,
+                 const polycube::Structure& s, core::Json& report) {
+  members["kind"] = kind;
+  for (const char* key : {"surface", "classification", "decomposition"}) members[key] = j[key];
+  members["structure"] = polycube::to_json(s);
+  core::write_stage_file(ctx.output_file(), "volts-polycube", 2, std::move(members));
+  polycube::write_structure_vtu(ctx.path("polycube_structure.vtu"), s);
+  report.update(polycube::report_figures(s));
+}
 
 // Warnings for a map with flipped surface triangles or tets left flipped by untangling (tmesh
 // refuses such a volume map), under `what`.
@@ -49,11 +183,10 @@ void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const
 // The stage file of a polycube with one volume map, its surface views (`surface_view(path,
 // mapped)`) and the tets in physical and polycube space.
 void write_with_volume_map(pipeline::StageContext& ctx, const core::Json& j, const std::string& kind, const core::Json& polycube,
-                           const volmap::VolumeMap& vm, const std::function<void(const std::string&, bool)>& surface_view) {
+                           const volmap::VolumeMap& vm, const polycube::Structure& structure, core::Json& report,
+                           const std::function<void(const std::string&, bool)>& surface_view) {
   core::LogSection s("write");
-  core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
-                         {{"kind", kind}, {"surface", j["surface"]}, {"classification", j["classification"]},
-                          {"decomposition", j["decomposition"]}, {"polycube", polycube}, {"volume_map", volmap::to_json(vm)}});
+  write_stage(ctx, j, kind, {{"polycube", polycube}, {"volume_map", volmap::to_json(vm)}}, structure, report);
   surface_view(ctx.path("polycube.vtp"), false);
   surface_view(ctx.path("polycube_mapped.vtp"), true);
   volmap::write_vtu(ctx.path("polycube_tets.vtu"), vm);
@@ -63,32 +196,32 @@ void write_with_volume_map(pipeline::StageContext& ctx, const core::Json& j, con
 // A torus (Liu et al. §4.2, Fig. 5(b)): patch maps on the ring embedding, then the harmonic volume
 // map of the tet mesh onto it, untangled (§4.3).
 core::Json torus(pipeline::StageContext& ctx, const core::Json& j, const split::Decomposition& d) {
+  const polycube::Structure structure = checked_structure(d);
   polycube::TorusSurfaceMap m;
   volmap::VolumeMap vm;
   map_torus(ctx, d, "", m, vm);
-  write_with_volume_map(ctx, j, "torus", polycube::to_json(m), vm,
-                        [&](const std::string& path, bool mapped) { polycube::write_torus_vtp(path, d, m, mapped); });
   core::Json r = volmap::report_figures(vm);
-  r["cubes"] = d.components.size();
-  r["tori"] = 1;
-  r["virtual_components"] = 0;
+  write_with_volume_map(ctx, j, "torus", polycube::to_json(m), vm, structure, r,
+                        [&](const std::string& path, bool mapped) { polycube::write_torus_vtp(path, d, m, mapped); });
   r["flipped_surface_triangles"] = m.flipped_surface_triangles;
   r["max_angle_distortion_deg"] = m.max_angle_distortion_deg;
   return r;
 }
 
 // Two tori united on a filled disk (Liu et al. §4.2, Fig. 6(c)): each torus with the disk is
-// mapped like a single torus, on its own ring; the disk gets one (independent) image per ring.
+// mapped like a single torus, on its own ring; the disk gets one (independent) image per ring (in
+// the structure: a non-conforming contact, no gluing).
 core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::Decomposition& d) {
   const std::vector<polycube::Ring> rings = polycube::rings(d);
+  const polycube::Structure structure = checked_structure(d);
   std::vector<polycube::TorusSurfaceMap> ms(rings.size());
   std::vector<volmap::VolumeMap> vms(rings.size());
   for (std::size_t i = 0; i < rings.size(); ++i) map_torus(ctx, rings[i].decomposition, "ring " + std::to_string(i) + ": ", ms[i], vms[i]);
   core::Json list = core::Json::array(), figures = core::Json::array();
   std::vector<const volmap::VolumeMap*> maps;
   std::vector<std::array<double, 3>> offsets;
-  core::Json r{{"cubes", d.components.size()}, {"tori", rings.size()}, {"virtual_components", 0}, {"flipped_surface_triangles", 0},
-               {"max_angle_distortion_deg", 0.0}, {"tets", 0}, {"flipped_tets", 0}, {"flipped_tets_before_untangling", 0}};
+  core::Json r{{"flipped_surface_triangles", 0}, {"max_angle_distortion_deg", 0.0}, {"tets", 0}, {"flipped_tets", 0},
+               {"flipped_tets_before_untangling", 0}};
   for (std::size_t i = 0; i < rings.size(); ++i) {
     list.push_back(polycube::to_json(rings[i], ms[i], vms[i]));
     maps.push_back(&vms[i]);
@@ -107,9 +240,7 @@ core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::D
   r["rings"] = figures;
   {
     core::LogSection s("write");
-    core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
-                           {{"kind", "tori"}, {"surface", j["surface"]}, {"classification", j["classification"]},
-                            {"decomposition", j["decomposition"]}, {"rings", list}});
+    write_stage(ctx, j, "tori", {{"rings", list}}, structure, r);
     polycube::write_rings_vtp(ctx.path("polycube.vtp"), rings, ms, false);
     polycube::write_rings_vtp(ctx.path("polycube_mapped.vtp"), rings, ms, true);
     volmap::write_vtu(ctx.path("polycube_tets.vtu"), maps, offsets, "ring");
@@ -128,18 +259,16 @@ core::Json difference(pipeline::StageContext& ctx, const core::Json& j, const sp
     pp.weights = ctx.config.polycube.weights;
     m = polycube::map_difference_surface(d, pp);
   }
+  const polycube::Structure structure = checked_structure(d, &m);
   volmap::VolumeMap vm;
   {
     core::LogSection s("volume map");
     vm = polycube::difference_volume_map(d, m, ctx.config.polycube);
   }
   warn_if_flipped("", m.flipped_surface_triangles, vm);
-  write_with_volume_map(ctx, j, "difference", polycube::to_json(m), vm,
-                        [&](const std::string& path, bool mapped) { polycube::write_difference_vtp(path, d, m, mapped); });
   core::Json r = volmap::report_figures(vm);
-  r["cubes"] = 1;
-  r["tori"] = 0;
-  r["virtual_components"] = 1;
+  write_with_volume_map(ctx, j, "difference", polycube::to_json(m), vm, structure, r,
+                        [&](const std::string& path, bool mapped) { polycube::write_difference_vtp(path, d, m, mapped); });
   r["hole_axis"] = m.axis;
   r["hole_width"] = m.hole_hi[(m.axis + 1) % 3] - m.hole_lo[(m.axis + 1) % 3];
   r["flipped_surface_triangles"] = m.flipped_surface_triangles;
@@ -153,6 +282,7 @@ int main(int argc, char** argv) {
   return pipeline::run_stage(argc, argv, "polycube",
       "Stage 3 (Liu et al. 2013 §4.2-4.3): build the polycube and map the surface onto it\n"
       "(bijective disk map per patch). Input: DIR/split.stage.json. Output: DIR/polycube.stage.json,\n"
+      "DIR/polycube_structure.vtu (the polycube's cubes and virtual components as hexahedra),\n"
       "DIR/polycube.vtp (surface with cube coordinates 'uvw'), DIR/polycube_mapped.vtp (the surface on the cube);\n"
       "tori also DIR/polycube_tets.vtu and DIR/polycube_tets_mapped.vtu (the volume map's tets, physical and mapped);\n"
       "two tori meeting on a disk: one ring per torus (cell field 'ring'; ring i drawn 5i along x when mapped);\n"
@@ -177,14 +307,14 @@ int main(int argc, char** argv) {
         }
         if (p.flipped_surface_triangles > 0)
           core::log_warning(std::to_string(p.flipped_surface_triangles) + " surface triangles are flipped by the map");
+        const polycube::Structure structure = checked_structure(d);
+        core::Json r = polycube::report_figures(p, d);
         {
           core::LogSection s("write");
-          core::write_stage_file(ctx.output_file(), "volts-polycube", 2,
-                                 {{"kind", "cube"}, {"surface", j["surface"]}, {"classification", j["classification"]},
-                                  {"decomposition", j["decomposition"]}, {"polycube", polycube::to_json(p)}});
+          write_stage(ctx, j, "cube", {{"polycube", polycube::to_json(p)}}, structure, r);
           polycube::write_vtp(ctx.path("polycube.vtp"), mesh, c, p);
           polycube::write_mapped_vtp(ctx.path("polycube_mapped.vtp"), mesh, c, p);
         }
-        return polycube::report_figures(p, d);
+        return r;
       });
 }

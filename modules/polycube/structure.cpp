@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <sstream>
 #include <utility>
 
@@ -375,6 +376,29 @@ std::string cycle_names(const Structure& s, const Development& d, int a, int b) 
   return t;
 }
 
+std::string contact_name(const Structure& s, std::size_t k) {
+  const Contact& x = s.contacts[k];
+  const auto cube = [&](int c) { return c >= 0 && c < static_cast<int>(s.cubes.size()) ? cube_name(s, c) : "cube " + std::to_string(c); };
+  return "contact '" + x.label + "' of " + cube(x.a) + " face " + std::to_string(x.fa) + " with " + cube(x.b) + " face " + std::to_string(x.fb);
+}
+
+// A contact's references, and that both its faces hold boundary (a contact lies on the solid's
+// boundary, where neither cube is glued or opened).
+void check_contact_record(const Structure& s, std::size_t k) {
+  const Contact& x = s.contacts[k];
+  const std::string who = contact_name(s, k);
+  check_index(s, x.a, who);
+  check_index(s, x.b, who);
+  if (x.a == x.b) throw TopologyError(who + ": a cube cannot touch itself");
+  if (x.fa < 0 || x.fa > 5 || x.fb < 0 || x.fb > 5) throw TopologyError(who + ": faces are 0..5");
+  for (const auto& [c, f] : {std::pair{x.a, x.fa}, std::pair{x.b, x.fb}}) {
+    const auto regions = boundary_regions(s, c);
+    if (std::none_of(regions.begin(), regions.end(), [f = f](const FaceRegion& r) { return r.face == f && r.kind == RegionKind::boundary; }))
+      throw TopologyError(who + ": face " + std::to_string(f) + " of " + cube_name(s, c) +
+                          " holds no boundary (glued or opened all over); a contact lies on the solid's boundary");
+  }
+}
+
 void check_references(const Structure& s) {
   const int n = static_cast<int>(s.cubes.size()), np = static_cast<int>(s.primitives.size());
   for (int c = 0; c < n; ++c) {
@@ -385,7 +409,8 @@ void check_references(const Structure& s) {
   }
   for (int p = 0; p < np; ++p) {
     const Primitive& q = s.primitives[p];
-    if (q.cubes.size() != (q.torus ? 4u : 1u)) throw TopologyError(primitive_name(s, p) + ": has " + std::to_string(q.cubes.size()) + " cubes");
+    if (q.torus ? q.cubes.size() < 4 : q.cubes.size() != 1)
+      throw TopologyError(primitive_name(s, p) + ": has " + std::to_string(q.cubes.size()) + " cubes" + (q.torus ? " (a torus needs at least 4)" : ""));
     for (int c : q.cubes) {
       check_index(s, c, primitive_name(s, p));
       if (s.cubes[c].primitive != p) throw TopologyError(primitive_name(s, p) + ": lists " + cube_name(s, c) + " of another primitive");
@@ -396,16 +421,19 @@ void check_references(const Structure& s) {
       throw TopologyError("gluing closes primitive " + std::to_string(g.closes_torus) + ", not a torus");
 }
 
-// A torus: four cubes, consecutive ones glued on whole faces, the ring closed by one gluing.
+// A torus: n >= 4 cubes, consecutive ones glued on whole faces, the ring closed by one gluing.
 void check_torus(const Structure& s, int p) {
   const auto& cubes = s.primitives[p].cubes;
+  const int n = static_cast<int>(cubes.size());
   const std::string who = primitive_name(s, p);
-  int closing = 0;
-  for (const auto& g : s.gluings) closing += g.closes_torus == p;
-  if (closing != 1) throw TopologyError(who + ": " + std::to_string(closing) + " gluings close its ring (needs one)");
-  for (int i = 0; i < 4; ++i) {
-    const int a = cubes[i], b = cubes[(i + 1) % 4];
-    const bool closes = i == 3;
+  std::string closing;
+  int closings = 0;
+  for (const auto& g : s.gluings)
+    if (g.closes_torus == p) closing += std::string(closings++ ? ", " : "") + "'" + s.cubes[g.a].label + "' to '" + s.cubes[g.b].label + "'";
+  if (closings != 1) throw TopologyError(who + ": " + std::to_string(closings) + " gluings close its ring (needs one)" + (closings ? ": " + closing : ""));
+  for (int i = 0; i < n; ++i) {
+    const int a = cubes[i], b = cubes[(i + 1) % n];
+    const bool closes = i == n - 1;
     const bool whole = std::any_of(s.gluings.begin(), s.gluings.end(), [&](const Gluing& g) {
       if ((g.closes_torus == p) != closes || !((g.a == a && g.b == b) || (g.a == b && g.b == a))) return false;
       const Rect fa = face_rect(s.cubes[g.a].box, g.fa), fb = face_rect(s.cubes[g.b].box, g.fb), rb = image_rect(s, g);
@@ -498,13 +526,14 @@ int add_cube(Structure& s, const std::string& label, const Box& box) {
   return p;
 }
 
-int add_torus(Structure& s, const std::string& label, const Box& first, int ring_axis) {
+int add_torus(Structure& s, const std::string& label, const Box& first, int ring_axis, int cubes) {
   check_box(first, "torus '" + label + "'");
   if (ring_axis < 0 || ring_axis > 2) throw TopologyError("torus '" + label + "': ring axis must be 0, 1 or 2");
+  if (cubes < 4) throw TopologyError("torus '" + label + "': a ring of " + std::to_string(cubes) + " cubes; a torus needs at least 4");
   const int p = static_cast<int>(s.primitives.size()), c0 = static_cast<int>(s.cubes.size());
   const double lo = first.lo[ring_axis], w = first.hi[ring_axis] - lo;
   s.primitives.push_back(Primitive{label, true, {}});
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < cubes; ++i) {
     Box b = first;
     b.lo[ring_axis] = lo + i * w, b.hi[ring_axis] = lo + (i + 1) * w;
     s.primitives[p].cubes.push_back(c0 + i);
@@ -512,10 +541,10 @@ int add_torus(Structure& s, const std::string& label, const Box& first, int ring
   }
   const int hi_face = 2 * ring_axis + 1, lo_face = 2 * ring_axis;
   std::vector<Gluing> gs;
-  for (int i = 0; i < 4; ++i) {
-    Gluing g{c0 + i, hi_face, c0 + (i + 1) % 4, lo_face, face_rect(s.cubes[c0 + i].box, hi_face), AxisMap{}, -1};
-    if (i == 3) {
-      g.map.offset[ring_axis] = lo - s.cubes[c0 + 3].box.hi[ring_axis];  // the period
+  for (int i = 0; i < cubes; ++i) {
+    Gluing g{c0 + i, hi_face, c0 + (i + 1) % cubes, lo_face, face_rect(s.cubes[c0 + i].box, hi_face), AxisMap{}, -1};
+    if (i == cubes - 1) {
+      g.map.offset[ring_axis] = lo - s.cubes[c0 + i].box.hi[ring_axis];  // the period
       g.closes_torus = p;
     }
     gs.push_back(g);
@@ -552,6 +581,17 @@ std::vector<int> unite(Structure& s, int p, int q, const StructureParams& params
 
 int glue(Structure& s, int a, int fa, int b, int fb, const Rect& rect_a, const AxisMap& map, const StructureParams& params) {
   return add_gluings(s, {Gluing{a, fa, b, fb, rect_a, map, -1}}, tolerance(cube_boxes(s), params)).front();
+}
+
+int add_contact(Structure& s, const std::string& label, int a, int fa, int b, int fb) {
+  s.contacts.push_back(Contact{label, a, fa, b, fb});
+  try {
+    check_contact_record(s, s.contacts.size() - 1);
+  } catch (...) {
+    s.contacts.pop_back();
+    throw;
+  }
+  return static_cast<int>(s.contacts.size()) - 1;
 }
 
 int subtract(Structure& s, int cube, const std::string& label, const std::vector<Box>& boxes, const StructureParams& params) {
@@ -706,11 +746,24 @@ void check(const Structure& s, const StructureParams& params) {
   for (int p = 0; p < static_cast<int>(s.primitives.size()); ++p)
     if (s.primitives[p].torus) check_torus(s, p);
   for (int c = 0; c < n; ++c) boundary_regions(s, c);
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) check_contact_record(s, k);
   const Development d = development(s);
+  // Contacts join parts of the development (never cubes of one part: those share a frame, so
+  // where they touch must be glued); gluings and contacts together must join every cube.
+  const int parts = 1 + *std::max_element(d.part.begin(), d.part.end());
+  std::vector<int> joined(static_cast<std::size_t>(parts));
+  for (int p = 0; p < parts; ++p) joined[p] = p;
+  const std::function<int(int)> root = [&](int p) { return joined[p] == p ? p : joined[p] = root(joined[p]); };
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const Contact& x = s.contacts[k];
+    if (d.part[x.a] == d.part[x.b])
+      throw TopologyError(contact_name(s, k) + ": the cubes are joined by gluings (one frame), so where they touch must be a gluing, not a contact");
+    joined[root(d.part[x.a])] = root(d.part[x.b]);
+  }
   for (int c = 0; c < n; ++c)
-    if (d.part[c] != 0)
-      throw TopologyError("the structure is not connected: no gluings join " + cube_name(s, c) + " to " + cube_name(s, 0) +
-                          " (a torus's closing gluing does not count)");
+    if (root(d.part[c]) != root(d.part[0]))
+      throw TopologyError("the structure is not connected: no gluings" + std::string(s.contacts.empty() ? "" : " or contacts") + " join " +
+                          cube_name(s, c) + " to " + cube_name(s, 0) + " (a torus's closing gluing does not count)");
   // Every gluing off the spanning tree closes a cycle: its maps must compose to the identity (a
   // torus's ring: to a translation, the period).
   for (std::size_t g = 0; g < s.gluings.size(); ++g) {
@@ -729,17 +782,20 @@ void check(const Structure& s, const StructureParams& params) {
   const double tol = std::max(tol0, tolerance(developed, params));
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n; ++j) {
+      if (d.part[i] != d.part[j]) continue;  // no common frame: joined by a contact only
       const std::string pair = cube_name(s, i) + " and " + cube_name(s, j);
       not_almost(developed[i], developed[j], tol, pair);
       if (overlap(developed[i], developed[j])) throw TopologyError(pair + " overlap");
     }
   for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j) check_contact(s, d, i, j, developed[i], developed[j]);
+    for (int j = i + 1; j < n; ++j)
+      if (d.part[i] == d.part[j]) check_contact(s, d, i, j, developed[i], developed[j]);
   for (int v = 0; v < static_cast<int>(s.virtual_components.size()); ++v) check_virtual(s, v, tol);
 }
 
 core::Json to_json(const Structure& s) {
-  core::Json cubes = core::Json::array(), primitives = core::Json::array(), gluings = core::Json::array(), virt = core::Json::array();
+  core::Json cubes = core::Json::array(), primitives = core::Json::array(), gluings = core::Json::array(), virt = core::Json::array(),
+             contacts = core::Json::array();
   for (const auto& c : s.cubes) cubes.push_back({{"label", c.label}, {"lo", c.box.lo}, {"hi", c.box.hi}, {"primitive", c.primitive}});
   for (const auto& p : s.primitives) primitives.push_back({{"label", p.label}, {"torus", p.torus}, {"cubes", p.cubes}});
   for (const auto& g : s.gluings)
@@ -750,7 +806,9 @@ core::Json to_json(const Structure& s) {
     for (const auto& b : v.boxes) boxes.push_back({{"lo", b.lo}, {"hi", b.hi}});
     virt.push_back({{"label", v.label}, {"cube", v.cube}, {"torus", v.torus}, {"boxes", boxes}});
   }
-  return core::Json{{"cubes", cubes}, {"primitives", primitives}, {"gluings", gluings}, {"virtual_components", virt}};
+  for (const auto& x : s.contacts)
+    contacts.push_back({{"label", x.label}, {"a", x.a}, {"fa", x.fa}, {"b", x.b}, {"fb", x.fb}, {"conforming", false}});
+  return core::Json{{"cubes", cubes}, {"primitives", primitives}, {"gluings", gluings}, {"virtual_components", virt}, {"contacts", contacts}};
 }
 
 namespace {
@@ -823,7 +881,7 @@ Structure structure_from_json(const core::Json& j, const std::string& file) {
     const std::string path = item("primitives", i);
     Primitive p{r.get<std::string>(primitives[i], path, "label"), r.get<bool>(primitives[i], path, "torus"),
                 r.get<std::vector<int>>(primitives[i], path, "cubes")};
-    if (p.cubes.size() != (p.torus ? 4u : 1u)) r.fail(path + ".cubes", p.torus ? "a torus has 4 cubes" : "a cube primitive has 1 cube");
+    if (p.torus ? p.cubes.size() < 4 : p.cubes.size() != 1) r.fail(path + ".cubes", p.torus ? "a torus has at least 4 cubes" : "a cube primitive has 1 cube");
     for (int c : p.cubes)
       if (c < 0 || c >= n || s.cubes[c].primitive != static_cast<int>(i))
         r.fail(path + ".cubes", "cube " + std::to_string(c) + " is not a cube of this primitive");
@@ -858,20 +916,47 @@ Structure structure_from_json(const core::Json& j, const std::string& file) {
     for (std::size_t k = 0; k < boxes.size(); ++k) v.boxes.push_back(r.box(boxes[k], item(path + ".boxes", k)));
     s.virtual_components.push_back(std::move(v));
   }
+  if (!j.contains("contacts")) return s;  // written before contacts existed: none
+  const core::Json& contacts = r.array(j, "", "contacts");
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    const core::Json& x = contacts[i];
+    const std::string path = item("contacts", i);
+    if (r.get<bool>(x, path, "conforming")) r.fail(path + ".conforming", "must be false (a conforming contact is a gluing)");
+    s.contacts.push_back(Contact{r.get<std::string>(x, path, "label"), r.index(x, path, "a", 0, n), r.index(x, path, "fa", 0, 6),
+                                 r.index(x, path, "b", 0, n), r.index(x, path, "fb", 0, 6)});
+  }
   return s;
 }
 
 core::Json report_figures(const Structure& s) {
   const auto tori = std::count_if(s.primitives.begin(), s.primitives.end(), [](const Primitive& p) { return p.torus; });
   return core::Json{{"cubes", s.cubes.size()}, {"tori", tori}, {"virtual_components", s.virtual_components.size()},
-                    {"gluings", s.gluings.size()}};
+                    {"gluings", s.gluings.size()}, {"contacts", s.contacts.size()}};
 }
 
 void write_structure_vtu(const std::string& path, const Structure& s) {
-  const auto dev = develop(s);
+  const Development d = development(s);
+  std::vector<AxisMap> dev = d.map;
+  // Parts (joined by contacts only) side by side along x: each half its width clear of the last.
+  const int parts = s.cubes.empty() ? 0 : 1 + *std::max_element(d.part.begin(), d.part.end());
+  double right = 0;
+  for (int p = 0; p < parts; ++p) {
+    double lo = 0, hi = 0;
+    bool first = true;
+    for (std::size_t c = 0; c < s.cubes.size(); ++c)
+      if (d.part[c] == p) {
+        const Box b = apply(dev[c], s.cubes[c].box);
+        lo = first ? b.lo[0] : std::min(lo, b.lo[0]), hi = first ? b.hi[0] : std::max(hi, b.hi[0]);
+        first = false;
+      }
+    const double shift = p == 0 ? 0 : right + (hi - lo) / 2 - lo;
+    for (std::size_t c = 0; c < s.cubes.size(); ++c)
+      if (d.part[c] == p) dev[c].offset[0] += shift;
+    right = hi + shift;
+  }
   viz::UnstructuredGrid grid;
   viz::Field cube{"cube_id", 1, {}}, primitive{"primitive_id", 1, {}}, torus{"torus", 1, {}}, is_virtual{"virtual", 1, {}},
-      component{"virtual_component", 1, {}};
+      component{"virtual_component", 1, {}}, part{"part", 1, {}};
   auto hex = [&](const Box& b, int c, int v) {
     const int first = static_cast<int>(grid.points.size());
     for (int z = 0; z < 2; ++z)
@@ -885,11 +970,12 @@ void write_structure_vtu(const std::string& path, const Structure& s) {
     torus.values.push_back(s.primitives[p].torus ? 1 : 0);
     is_virtual.values.push_back(v >= 0 ? 1 : 0);
     component.values.push_back(v);
+    part.values.push_back(d.part[c]);
   };
   for (int c = 0; c < static_cast<int>(s.cubes.size()); ++c) hex(apply(dev[c], s.cubes[c].box), c, -1);
   for (int v = 0; v < static_cast<int>(s.virtual_components.size()); ++v)
     for (const auto& b : s.virtual_components[v].boxes) hex(apply(dev[s.virtual_components[v].cube], b), s.virtual_components[v].cube, v);
-  grid.cell_fields = {cube, primitive, torus, is_virtual, component};
+  grid.cell_fields = {cube, primitive, torus, is_virtual, component, part};
   viz::write_vtu(path, grid);
 }
 

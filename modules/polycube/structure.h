@@ -4,17 +4,21 @@
 //
 // Each cube has its own parameter box; a gluing says which rectangle of one cube's face is the same
 // as a rectangle of another's, through an axis-aligned affine map (signed axis permutation, scale,
-// offset), so faces of cubes of different sizes may meet partially (Fig. 6(a)). A torus is four
-// cubes in a row, the last one's right face glued to the first one's left face by a translation
-// (Fig. 5(b)): no single axis-aligned embedding holds it, hence maps rather than one frame. A
-// virtual component (Fig. 6(b)/(d), Fig. 7) is a region of one cube (boxes in its frame) whose
-// elements the T-mesh stage removes.
+// offset), so faces of cubes of different sizes may meet partially (Fig. 6(a)). A torus is n >= 4
+// cubes in a row (four in the paper; split makes 4..16), the last one's right face glued to the
+// first one's left face by a translation (Fig. 5(b)): no single axis-aligned embedding holds it,
+// hence maps rather than one frame. A virtual component (Fig. 6(b)/(d), Fig. 7) is a region of one
+// cube (boxes in its frame) whose elements the T-mesh stage removes. A contact records two cube
+// faces that touch where no gluing can say how (split's two tori meet on a filled disk inside a
+// face of each ring, not on a rectangle of both): it joins the solid but relates no frames.
 //
 // Coordinates are compared exactly: they are lattice values (dyadic fractions, as the octree's), so
 // maps with power-of-two scales compose without rounding. Two coordinates that differ by less than
 // StructureParams::near_rel of the structure's size but are not equal are a TopologyError, never
-// rounded to equal. Faces are 2*axis + side (side 1 = the hi side); a face's coordinates (s, t) are
-// those of axes (axis+1)%3 and (axis+2)%3, as in polycube.h.
+// rounded to equal. Coordinates that no map moves (a virtual box in its own cube's frame, e.g. the
+// hole box polycube/difference.h sizes) may be any doubles: they are only compared, never
+// computed. Faces are 2*axis + side (side 1 = the hi side); a face's coordinates (s, t) are those
+// of axes (axis+1)%3 and (axis+2)%3, as in polycube.h.
 //
 // Limits: a virtual component lies in one cube (a hole through two glued cubes is one per cube);
 // the development cuts a torus at its closing gluing, so a cube glued across that cut is not
@@ -63,7 +67,7 @@ struct Cube {
   int primitive = 0;  ///< the primitive it belongs to
 };
 
-/// A cube primitive (one cube) or a torus primitive (four cubes in a ring, the first the
+/// A cube primitive (one cube) or a torus primitive (n >= 4 cubes in a ring, the first the
 /// representative of Fig. 6(c)/(d)).
 struct Primitive {
   std::string label;
@@ -89,11 +93,23 @@ struct VirtualComponent {
   bool torus = false;  ///< a square ring of four boxes (a cube minus a torus)
 };
 
+/// A non-conforming contact: face `fa` of cube `a` and face `fb` of cube `b` touch on a region
+/// (named by `label`, e.g. a filled disk) that is not a rectangle of both faces, so no gluing (no
+/// map) relates them. It makes the solid connected but not one polycube: the cubes on either side
+/// stay in frames of their own (separate parts of the development), and the T-mesh does not match
+/// across it. Both faces must hold boundary (neither glued nor opened all over), and the cubes must
+/// not be joined by gluings (cubes in one frame that touch need a gluing).
+struct Contact {
+  std::string label;
+  int a = 0, fa = 0, b = 0, fb = 0;
+};
+
 struct Structure {
   std::vector<Cube> cubes;
   std::vector<Primitive> primitives;
   std::vector<Gluing> gluings;
   std::vector<VirtualComponent> virtual_components;
+  std::vector<Contact> contacts;
 };
 
 Point apply(const AxisMap& m, const Point& x);
@@ -109,11 +125,12 @@ Rect face_rect(const Box& b, int face);
 /// Throws core::TopologyError naming `label` if the box is empty or not finite.
 int add_cube(Structure& s, const std::string& label, const Box& box);
 
-/// Adds a torus primitive: four copies of `first` in a row along `ring_axis` (cube i shifted by i
-/// box widths), consecutive cubes glued face to face, the last's hi face glued to the first's lo
-/// face by a translation of minus four widths. Cubes are labelled label/0 .. label/3. Returns the
-/// primitive id. Throws core::TopologyError as add_cube, or if ring_axis is not 0, 1 or 2.
-int add_torus(Structure& s, const std::string& label, const Box& first, int ring_axis);
+/// Adds a torus primitive: `cubes` (>= 4) copies of `first` in a row along `ring_axis` (cube i
+/// shifted by i box widths), consecutive cubes glued face to face, the last's hi face glued to the
+/// first's lo face by a translation of minus `cubes` widths. Cubes are labelled label/0 ..
+/// label/(cubes-1). Returns the primitive id. Throws core::TopologyError as add_cube, or if
+/// ring_axis is not 0, 1 or 2, or cubes < 4.
+int add_torus(Structure& s, const std::string& label, const Box& first, int ring_axis, int cubes = 4);
 
 /// Union (Fig. 6(a)/(c)): primitives p and q, their boxes given in one frame, are glued on every
 /// face rectangle of positive area where a cube of p touches a cube of q (identity maps). Returns
@@ -140,6 +157,12 @@ int subtract(Structure& s, int cube, const std::string& label, const std::vector
 int subtract_ring(Structure& s, int cube, const std::string& label, const Box& outer, const Box& inner, int axis,
                   const StructureParams& params = {});
 
+/// Records a non-conforming contact (see Contact) of face fa of cube a with face fb of cube b;
+/// returns its id. Throws core::TopologyError naming the contact and the cubes if an index or face
+/// is out of range, a == b, or a face holds no boundary. That no gluings join a and b is check()'s
+/// (gluings may come later).
+int add_contact(Structure& s, const std::string& label, int a, int fa, int b, int fb);
+
 /// Re-expresses cube `cube` in a new frame: its box becomes m(box), and its gluings (faces,
 /// rectangles, maps) and virtual boxes follow, so the structure is the same polycube (e.g. every
 /// cube on [0,1]^3, as the paper maps them). Throws core::TopologyError naming the cube if m is not
@@ -152,6 +175,7 @@ int map_face(const AxisMap& m, int face);
 /// Per cube: its map into the frame of its connected part (that part's first cube's frame),
 /// composed along a spanning tree of the gluings that never uses a torus's closing gluing (the
 /// development cuts each torus open there). Cubes glued with identity maps keep their boxes.
+/// Contacts join no frames: cubes joined only through contacts are in different parts.
 std::vector<AxisMap> develop(const Structure& s);
 
 enum class RegionKind { boundary, glued, virtual_opening };
@@ -182,22 +206,29 @@ std::vector<Wall> virtual_walls(const Structure& s, int virtual_component);
 /// every gluing valid (as glue checks), connected, no face rectangle glued twice, the gluing maps
 /// compose to the identity around every cycle (a torus's ring: to a translation), developed cubes
 /// neither overlap nor touch on a face without a gluing there, no coordinates almost equal, each
-/// torus a ring of four cubes glued on whole faces, virtual components as subtract checks.
+/// torus a ring of n >= 4 cubes glued on whole faces, virtual components as subtract checks.
+/// With contacts: parts of the development joined by gluings or contacts must be connected, each
+/// contact joins two different parts on faces that hold boundary (as add_contact checks), and
+/// overlap and crack checks run per part (parts have no common frame). Without contacts every cube
+/// must be in one part, as before: a contact is the only way a structure may have several.
 void check(const Structure& s, const StructureParams& params = {});
 
 /// {"cubes": [{label, lo, hi, primitive}], "primitives": [{label, torus, cubes}], "gluings": [{a,
 /// fa, b, fb, rect_lo, rect_hi, axis, scale, offset, closes_torus}], "virtual_components": [{label,
-/// cube, torus, boxes: [{lo, hi}]}]}. structure_from_json checks types, sizes, ranges and references
-/// and throws core::InvalidInputError naming `file` and the member; realizability is check()'s.
+/// cube, torus, boxes: [{lo, hi}]}], "contacts": [{label, a, fa, b, fb, conforming: false}]}.
+/// structure_from_json checks types, sizes, ranges and references and throws
+/// core::InvalidInputError naming `file` and the member (`contacts` may be absent: none; a contact
+/// with conforming true is refused: that is a gluing); realizability is check()'s.
 core::Json to_json(const Structure& s);
 Structure structure_from_json(const core::Json& j, const std::string& file);
 
-/// {"cubes", "tori", "virtual_components", "gluings"}: counts.
+/// {"cubes", "tori", "virtual_components", "gluings", "contacts"}: counts.
 core::Json report_figures(const Structure& s);
 
 /// ParaView: cubes at their developed position and virtual boxes as hexahedra, cell fields
-/// cube_id, primitive_id, torus (0/1), virtual (0/1), virtual_component (-1 for cubes). Throws
-/// core::IoError.
+/// cube_id, primitive_id, torus (0/1), virtual (0/1), virtual_component (-1 for cubes), part (of
+/// the development). Parts after the first (joined only by contacts) are drawn moved along x, each
+/// half its width clear of the one before, so they do not overlap. Throws core::IoError.
 void write_structure_vtu(const std::string& path, const Structure& s);
 
 }  // namespace volts::polycube

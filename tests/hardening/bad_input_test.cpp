@@ -279,6 +279,21 @@ std::vector<BadInput> catalogue() {
                    u.erase(u.end() - 3, u.end());
                  },
                  "polycube.vertex_uvw has"),
+      // The polycube structure (polycube/structure.h), read and checked again by volts-tmesh.
+      stage_json("PolycubeStructureMalformed", "polycube", "volts-tmesh", [](core::Json& j) { j["structure"]["cubes"][0]["hi"][0] = 0; },
+                 "structure.cubes[0]: lo < hi must hold on every axis"),
+      stage_json("PolycubeStructureNotAPolycube", "polycube", "volts-tmesh",
+                 [](core::Json& j) {
+                   j["structure"]["cubes"].push_back({{"label", "stray"}, {"lo", {2, 0, 0}}, {"hi", {3, 1, 1}}, {"primitive", 1}});
+                   j["structure"]["primitives"].push_back({{"label", "stray"}, {"torus", false}, {"cubes", core::Json::array({1})}});
+                 },
+                 "structure is not a polycube: the structure is not connected: no gluings join cube 'stray' to cube 'component 0'"),
+      stage_json("PolycubeStructureOfAnotherKind", "polycube", "volts-tmesh",
+                 [](core::Json& j) {
+                   j["structure"]["virtual_components"].push_back(
+                       {{"label", "hole"}, {"cube", 0}, {"torus", false}, {"boxes", core::Json::array({{{"lo", {0.25, 0.25, 0}}, {"hi", {0.75, 0.75, 1}}}})}});
+                 },
+                 "structure does not match kind 'cube': it has 1 cubes, 0 tori and 1 virtual components"),
       stage_json("TmeshSizeAndKnotsDisagree", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["size"][0] = 4; },
                  "does not match its 5 knots"),
       stage_json("TmeshFunctionIdsShort", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["function_ids"].erase(j["tmeshes"][0]["function_ids"].begin()); },

@@ -101,6 +101,11 @@ void expect_same(const Structure& a, const Structure& b) {
     ASSERT_EQ(x.boxes.size(), y.boxes.size());
     for (std::size_t k = 0; k < x.boxes.size(); ++k) EXPECT_TRUE(same(x.boxes[k], y.boxes[k]));
   }
+  ASSERT_EQ(a.contacts.size(), b.contacts.size());
+  for (std::size_t i = 0; i < a.contacts.size(); ++i) {
+    const auto &x = a.contacts[i], &y = b.contacts[i];
+    EXPECT_EQ(std::tie(x.label, x.a, x.fa, x.b, x.fb), std::tie(y.label, y.a, y.fa, y.b, y.fb));
+  }
 }
 
 // Area of cube c's regions of `kind`.
@@ -600,7 +605,7 @@ TEST(structure, JsonRoundTripAndBadJson) {
   polycube::subtract(s, 4, "hole", {box(0.25, 0.25, 1.5, 0.75, 0.75, 2)});
   polycube::reframe(s, 2, unit_frame(s.cubes[2].box, rotations()[7]));
   expect_polycube(s);
-  EXPECT_EQ(polycube::report_figures(s), (core::Json{{"cubes", 5}, {"tori", 1}, {"virtual_components", 1}, {"gluings", 5}}));
+  EXPECT_EQ(polycube::report_figures(s), (core::Json{{"cubes", 5}, {"tori", 1}, {"virtual_components", 1}, {"gluings", 5}, {"contacts", 0}}));
 
   const core::Json good = polycube::to_json(s);
   struct Bad {
@@ -656,5 +661,130 @@ TEST(structure, ParaViewFileHoldsOneHexPerCubeAndVirtualBox) {
   const std::string vtu = text.str();
   EXPECT_TRUE(has(vtu, "NumberOfPoints=\"72\"") && has(vtu, "NumberOfCells=\"9\"")) << "5 cubes + 4 ring boxes";
   for (const char* field : {"\"cube_id\"", "\"primitive_id\"", "\"torus\"", "\"virtual\"", "\"virtual_component\""}) EXPECT_TRUE(has(vtu, field)) << field;
+  std::filesystem::remove(path);
+}
+
+// split makes tori of 4..16 cubes (split.torus_cubes): rings of n cubes in any frames close with
+// a translation by n widths; fewer than four cubes is no torus.
+TEST(structure, TorusOfNCubesAsSplitMakesThem) {
+  const auto rots = rotations();
+  for (int n : {4, 5, 8, 16})
+    for (int ring_axis = 0; ring_axis < 3; ++ring_axis) {
+      SCOPED_TRACE(std::to_string(n) + " cubes along " + std::to_string(ring_axis));
+      Structure s;
+      const int t = polycube::add_torus(s, "T", box(0, 0, 0, 0.5, 0.5, 0.5), ring_axis, n);
+      ASSERT_EQ(s.primitives[t].cubes.size(), static_cast<std::size_t>(n));
+      EXPECT_EQ(s.cubes.back().label, "T/" + std::to_string(n - 1));
+      EXPECT_EQ(polycube::report_figures(s), (core::Json{{"cubes", n}, {"tori", 1}, {"virtual_components", 0}, {"gluings", n}, {"contacts", 0}}));
+      expect_polycube(s);
+      for (int k = 0; k < n; ++k) polycube::reframe(s, k, unit_frame(s.cubes[k].box, rots[(3 * n + 5 * k + ring_axis) % rots.size()]));
+      expect_polycube(s);
+      AxisMap around;
+      int at = s.primitives[t].cubes[0];
+      for (int step = 0; step < n; ++step) {
+        const auto g = std::find_if(s.gluings.begin(), s.gluings.end(), [&](const polycube::Gluing& x) { return x.a == at; });
+        ASSERT_NE(g, s.gluings.end());
+        around = polycube::compose(g->map, around);
+        at = g->b;
+      }
+      EXPECT_EQ(at, s.primitives[t].cubes[0]);
+      EXPECT_EQ(around.scale, (Point{1, 1, 1}));
+      std::array<double, 3> period = around.offset;
+      std::sort(period.begin(), period.end(), [](double x, double y) { return std::abs(x) < std::abs(y); });
+      EXPECT_EQ(period[0], 0);
+      EXPECT_EQ(period[1], 0);
+      EXPECT_EQ(std::abs(period[2]), n) << "n unit cubes (cube 0's frame)";
+    }
+  Structure three;
+  auto msg = topology_error([&] { polycube::add_torus(three, "R", box(0, 0, 0, 1, 1, 1), 0, 3); });
+  EXPECT_TRUE(has(msg, "torus 'R'") && has(msg, "at least 4")) << msg;
+  EXPECT_TRUE(three.cubes.empty());
+  // A torus primitive cut down to three cubes by hand: check() and the JSON reader refuse it.
+  Structure s;
+  polycube::add_torus(s, "T", box(0, 0, 0, 1, 1, 1), 0, 4);
+  core::Json j = polycube::to_json(s);
+  s.primitives[0].cubes.pop_back();
+  s.cubes.pop_back();
+  msg = topology_error([&] { polycube::check(s); });
+  EXPECT_TRUE(has(msg, "torus 'T'") && has(msg, "at least 4")) << msg;
+  j["primitives"][0]["cubes"] = {0, 1, 2};
+  try {
+    polycube::structure_from_json(j, "three.json");
+    ADD_FAILURE() << "a torus of three cubes was read";
+  } catch (const core::InvalidInputError& e) {
+    EXPECT_TRUE(has(e.what(), "three.json: structure.primitives[0].cubes: a torus has at least 4 cubes")) << e.what();
+  }
+  // A second gluing that claims to close the ring: the message names the cubes of both.
+  Structure two;
+  polycube::add_torus(two, "T", box(0, 0, 0, 1, 1, 1), 0, 6);
+  two.gluings[2].closes_torus = 0;
+  msg = topology_error([&] { polycube::check(two); });
+  EXPECT_TRUE(has(msg, "2 gluings close its ring") && has(msg, "'T/2' to 'T/3'") && has(msg, "'T/5' to 'T/0'")) << msg;
+}
+
+// Two tori that touch on a region inside a face of each (split's genus-2 disk): a non-conforming
+// contact joins the solid without a gluing; each torus stays in a frame of its own.
+TEST(structure, TwoToriJoinedByANonConformingContact) {
+  Structure s;
+  const int t0 = polycube::add_torus(s, "A", box(0, 0, 0, 1, 1, 1), 0, 4);
+  const int t1 = polycube::add_torus(s, "B", box(0, 0, 0, 1, 1, 1), 0, 6);  // the same coordinates: no common frame
+  auto msg = topology_error([&] { polycube::check(s); });
+  EXPECT_TRUE(has(msg, "not connected") && has(msg, "'B/0'") && has(msg, "'A/0'") && !has(msg, "contacts")) << msg;
+  const int a = s.primitives[t0].cubes[1], b = s.primitives[t1].cubes[2];
+  EXPECT_EQ(polycube::add_contact(s, "disk", a, 5, b, 4), 0);
+  expect_polycube(s);  // JSON round trip with the contact included
+  EXPECT_EQ(polycube::report_figures(s), (core::Json{{"cubes", 10}, {"tori", 2}, {"virtual_components", 0}, {"gluings", 10}, {"contacts", 1}}));
+  EXPECT_EQ(polycube::to_json(s)["contacts"][0],
+            (core::Json{{"label", "disk"}, {"a", a}, {"fa", 5}, {"b", b}, {"fb", 4}, {"conforming", false}}));
+  // The contact glues nothing: both faces stay boundary; each ring is developed in its own frame.
+  EXPECT_EQ(kind_area(s, a, RegionKind::boundary), 4);
+  EXPECT_EQ(kind_area(s, b, RegionKind::boundary), 4);
+  const auto dev = polycube::develop(s);
+  EXPECT_TRUE(same(polycube::apply(dev[b], s.cubes[b].box), s.cubes[b].box));
+
+  // A contact on a cross section (glued all over), between cubes of one ring, or out of range.
+  Structure bad = s;
+  msg = topology_error([&] { polycube::add_contact(bad, "section", a, 1, b, 4); });
+  EXPECT_TRUE(has(msg, "contact 'section'") && has(msg, "'A/1'") && has(msg, "holds no boundary")) << msg;
+  msg = topology_error([&] { polycube::add_contact(bad, "self", a, 5, a, 4); });
+  EXPECT_TRUE(has(msg, "contact 'self'") && has(msg, "itself")) << msg;
+  msg = topology_error([&] { polycube::add_contact(bad, "far", a, 5, 99, 4); });
+  EXPECT_TRUE(has(msg, "contact 'far'") && has(msg, "no cube 99")) << msg;
+  EXPECT_EQ(bad.contacts.size(), 1u) << "refused contacts are not kept";
+  bad.contacts.push_back(polycube::Contact{"inside", s.primitives[t0].cubes[0], 2, s.primitives[t0].cubes[2], 2});
+  msg = topology_error([&] { polycube::check(bad); });
+  EXPECT_TRUE(has(msg, "contact 'inside'") && has(msg, "'A/0'") && has(msg, "'A/2'") && has(msg, "must be a gluing")) << msg;
+
+  // JSON: a conforming contact is a gluing; an index out of range; no contacts member at all.
+  const core::Json good = polycube::to_json(s);
+  for (const auto& [member, edit] : std::vector<std::pair<std::string, std::function<void(core::Json&)>>>{
+           {"structure.contacts[0].conforming: must be false", [](core::Json& j) { j["contacts"][0]["conforming"] = true; }},
+           {"structure.contacts[0].fb", [](core::Json& j) { j["contacts"][0]["fb"] = 6; }},
+           {"structure.contacts[0].b", [](core::Json& j) { j["contacts"][0]["b"] = 10; }},
+           {"structure.contacts[0].label", [](core::Json& j) { j["contacts"][0].erase("label"); }},
+           {"structure.contacts: must be an array", [](core::Json& j) { j["contacts"] = 1; }}}) {
+    core::Json j = good;
+    edit(j);
+    try {
+      polycube::structure_from_json(j, "bad.json");
+      ADD_FAILURE() << "accepted: " << member;
+    } catch (const core::InvalidInputError& e) {
+      EXPECT_TRUE(has(e.what(), "bad.json: ") && has(e.what(), member)) << e.what();
+    }
+  }
+  core::Json old = good;
+  old.erase("contacts");
+  const Structure without = polycube::structure_from_json(old, "old.json");
+  EXPECT_TRUE(without.contacts.empty());
+  msg = topology_error([&] { polycube::check(without); });
+  EXPECT_TRUE(has(msg, "not connected")) << msg;
+
+  // ParaView: one hex per cube, the second ring drawn beside the first (field `part`).
+  const auto path = std::filesystem::temp_directory_path() / ("volts_structure_parts_" + std::to_string(::getpid()) + ".vtu");
+  polycube::write_structure_vtu(path.string(), s);
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_TRUE(has(text.str(), "NumberOfCells=\"10\"") && has(text.str(), "\"part\""));
   std::filesystem::remove(path);
 }
