@@ -208,6 +208,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     Section s = top.section("polycube");
     s.get("weights", c.polycube.weights, {"mean-value", "uniform"});
     s.get("tet_max_volume_rel", c.polycube.tet_max_volume_rel, 1e-6, 1.0);
+    s.get("smooth_sweeps", c.polycube.smooth_sweeps, 0, 10000);
     s.finish();
   }
   {
@@ -263,6 +264,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("repair_sweeps", f.gfd.repair_sweeps, 0, 1000);
     s.get("weights", f.cube.weights, {"mean-value", "uniform"});
     s.get("tet_max_volume_rel", f.cube.tet_max_volume_rel, 1e-6, 1.0);
+    s.get("smooth_sweeps", f.cube.smooth_sweeps, 0, 10000);
     s.get("segmentation_smoothness", f.cube.segmentation.smoothness, 0.0, 10.0);
     s.get("optimize_sweeps", f.optimize_sweeps, 0, 100);
     s.finish();
@@ -367,7 +369,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "hole" << YAML::Value << c.split.hole << YAML::EndMap;
   e << YAML::Key << "polycube" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "weights" << YAML::Value << c.polycube.weights;
-  e << YAML::Key << "tet_max_volume_rel" << YAML::Value << c.polycube.tet_max_volume_rel << YAML::EndMap;
+  e << YAML::Key << "tet_max_volume_rel" << YAML::Value << c.polycube.tet_max_volume_rel;
+  e << YAML::Key << "smooth_sweeps" << YAML::Value << c.polycube.smooth_sweeps << YAML::EndMap;
   e << YAML::Key << "tmesh" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "level" << YAML::Value << c.tmesh.level;
   e << YAML::Key << "degree" << YAML::Value << c.tmesh.degree;
@@ -403,6 +406,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "repair_sweeps" << YAML::Value << f.gfd.repair_sweeps;
   e << YAML::Key << "weights" << YAML::Value << f.cube.weights;
   e << YAML::Key << "tet_max_volume_rel" << YAML::Value << f.cube.tet_max_volume_rel;
+  e << YAML::Key << "smooth_sweeps" << YAML::Value << f.cube.smooth_sweeps;
   e << YAML::Key << "segmentation_smoothness" << YAML::Value << f.cube.segmentation.smoothness;
   e << YAML::Key << "optimize_sweeps" << YAML::Value << f.optimize_sweeps << YAML::EndMap;
   e << YAML::EndMap;

@@ -199,6 +199,7 @@ CubeMap map_to_cube(const Mesh& input, const classify::Classification& c, const 
   }
   volmap::Params vp;
   vp.tetgen.max_volume_rel = params.tet_max_volume_rel;
+  vp.smooth_sweeps = params.smooth_sweeps;
   m.volume = volmap::harmonic_volume_map(mesh, uvw, vp);
   if (m.volume.flipped_tets > 0) {
     std::ostringstream s;

@@ -35,6 +35,9 @@ struct CubeMapParams {
   /// patches are mapped again with "uniform" (Tutte: positive weights, so one-to-one).
   std::string weights = "mean-value";
   double tet_max_volume_rel = 1e-3;     ///< largest tet / the solid's volume [1e-6, 1]
+  /// Sweeps of smoothing of a nearly degenerate volume map (volmap::Params::smooth_sweeps) [0, 10000].
+  /// Off by default on this route: its figures (docs/status.md) were measured without it.
+  int smooth_sweeps = 0;
 };
 
 struct CubeMap {

@@ -314,6 +314,7 @@ surface::Mesh difference_solid(const split::Decomposition& d, const DifferenceMa
 volmap::VolumeMap difference_volume_map(const split::Decomposition& d, const DifferenceMap& m, const Params& params) {
   volmap::Params vp;
   vp.tetgen.max_volume_rel = params.tet_max_volume_rel;
+  vp.smooth_sweeps = params.smooth_sweeps;
   return volmap::harmonic_volume_map(difference_solid(d, m), m.points, vp);
 }
 

@@ -181,6 +181,7 @@ std::vector<Ring> rings(const split::Decomposition& d) {
 volmap::VolumeMap torus_volume_map(const split::Decomposition& d, const TorusSurfaceMap& m, const Params& params) {
   volmap::Params vp;
   vp.tetgen.max_volume_rel = params.tet_max_volume_rel;
+  vp.smooth_sweeps = params.smooth_sweeps;
   return volmap::harmonic_volume_map(split::layout_mesh(d.layout, true), m.embedding.points, vp);
 }
 

@@ -138,6 +138,7 @@ core::Json report_figures(const VolumeMap& m) {
                     {"untangle_joint", m.untangle_joint},
                     {"untangle_stop", m.untangle_stop},
                     {"min_volume_ratio", m.min_volume_ratio},
+                    {"min_volume_ratio_before_smoothing", m.min_volume_ratio_before_smoothing},
                     {"parameter_volume", m.parameter_volume}};
 }
 
@@ -208,6 +209,8 @@ VolumeMap from_json(const core::Json& j, const std::string& file) {
     m.untangle_stop = j["untangle_stop"].get<std::string>();
   }
   m.min_volume_ratio = get_double("min_volume_ratio");
+  m.min_volume_ratio_before_smoothing =
+      j.contains("min_volume_ratio_before_smoothing") ? get_double("min_volume_ratio_before_smoothing") : m.min_volume_ratio;
   m.parameter_volume = get_double("parameter_volume");
   return m;
 }

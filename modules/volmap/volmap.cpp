@@ -8,6 +8,7 @@
 #include <Eigen/Sparse>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <map>
 #include <set>
@@ -29,6 +30,8 @@ void check(const surface::Mesh& surface, const std::vector<std::array<double, 3>
     throw core::ConfigError("volmap untangle_max_sweeps must be in [0, 100000]");
   if (!(p.untangle_min_volume_rel >= 0 && p.untangle_min_volume_rel < 1))
     throw core::ConfigError("volmap untangle_min_volume_rel must be in [0, 1)");
+  if (!(p.smooth_below_ratio >= 0 && p.smooth_below_ratio < 1) || p.smooth_sweeps < 0 || p.smooth_sweeps > 10000)
+    throw core::ConfigError("volmap smooth_below_ratio must be in [0, 1) and smooth_sweeps in [0, 10000]");
   if (!p.tetgen.keep_boundary)
     throw core::ConfigError("volmap needs tetgen keep_boundary = true: the boundary condition is given per surface vertex");
   if (surface.has_garbage())
@@ -275,6 +278,34 @@ struct GlobalData {
   double det_min = 0;
 };
 
+// Energy of one tet with Jacobian J (physical reference shape -> parameter image), regularized by
+// eps (Garanzha et al. 2021, theta = 1/2); its derivative in J if dJ is given. Also returns det J.
+double tet_energy(const Eigen::Matrix3d& J, double eps, double* det, Eigen::Matrix3d* dJ) {
+  const double theta = 0.5;
+  Eigen::Matrix3d C;  // d det / d J
+  C.col(0) = J.col(1).cross(J.col(2)), C.col(1) = J.col(2).cross(J.col(0)), C.col(2) = J.col(0).cross(J.col(1));
+  const double D = J.col(0).dot(C.col(0)), F = J.squaredNorm();
+  *det = D;
+  const double root = std::sqrt(eps * eps + D * D), chi = (D + root) / 2, dchi = chi / root;
+  const double c23 = std::cbrt(chi * chi);
+  if (dJ)
+    *dJ = (1 - theta) * (2 * J / (3 * c23) - (2.0 / 9) * F / (c23 * chi) * dchi * C) +
+          theta * (D / chi - (D * D + 1) / (2 * chi * chi) * dchi) * C;
+  return (1 - theta) * F / (3 * c23) + theta * (D * D + 1) / (2 * chi);
+}
+
+// Gradient of a tet's energy in its 4 vertices' parameter positions, from dE/dJ (P = edge matrix).
+std::array<Vec, 4> vertex_gradients(const Eigen::Matrix3d& dJ, const Eigen::Matrix3d& s_inv, double weight) {
+  const Eigen::Matrix3d dP = weight * dJ * s_inv.transpose();
+  return {Vec(-dP.col(0) - dP.col(1) - dP.col(2)), Vec(dP.col(0)), Vec(dP.col(1)), Vec(dP.col(2))};
+}
+
+Eigen::Matrix3d tet_jacobian(const std::vector<Vec>& p, const Tet& t, const Eigen::Matrix3d& s_inv) {
+  Eigen::Matrix3d P;
+  for (int j = 0; j < 3; ++j) P.col(j) = p[t[j + 1]] - p[t[0]];
+  return P * s_inv;
+}
+
 double global_energy(unsigned nx, const double* x, double* grad, void* data) {
   auto* d = static_cast<GlobalData*>(data);
   auto& p = d->vm->parameter;
@@ -282,53 +313,34 @@ double global_energy(unsigned nx, const double* x, double* grad, void* data) {
   if (grad) std::fill(grad, grad + nx, 0.0);
   double e = 0;
   d->det_min = HUGE_VAL;
-  const double theta = 0.5;
   for (std::size_t i = 0; i < d->tets.size(); ++i) {
     const Tet& t = d->vm->tets[d->tets[i]];
-    Eigen::Matrix3d P;
-    for (int j = 0; j < 3; ++j) P.col(j) = p[t[j + 1]] - p[t[0]];
-    const Eigen::Matrix3d J = P * d->s_inv[i];
-    Eigen::Matrix3d C;  // d det / d J
-    C.col(0) = J.col(1).cross(J.col(2)), C.col(1) = J.col(2).cross(J.col(0)), C.col(2) = J.col(0).cross(J.col(1));
-    const double D = J.col(0).dot(C.col(0)), F = J.squaredNorm();
+    Eigen::Matrix3d dJ;
+    double D = 0;
+    e += d->weight[i] * tet_energy(tet_jacobian(p, t, d->s_inv[i]), d->eps, &D, grad ? &dJ : nullptr);
     d->det_min = std::min(d->det_min, D);
-    const double root = std::sqrt(d->eps * d->eps + D * D), chi = (D + root) / 2, dchi = chi / root;
-    const double c23 = std::cbrt(chi * chi);
-    const double f = (1 - theta) * F / (3 * c23) + theta * (D * D + 1) / (2 * chi);
-    e += d->weight[i] * f;
     if (!grad) continue;
-    const Eigen::Matrix3d dJ = (1 - theta) * (2 * J / (3 * c23) - (2.0 / 9) * F / (c23 * chi) * dchi * C) +
-                               theta * (D / chi - (D * D + 1) / (2 * chi * chi) * dchi) * C;
-    const Eigen::Matrix3d dP = d->weight[i] * dJ * d->s_inv[i].transpose();
+    const std::array<Vec, 4> g = vertex_gradients(dJ, d->s_inv[i], d->weight[i]);
     for (int j = 0; j < 4; ++j) {
       const int k = d->var_of[t[j]];
       if (k < 0) continue;
-      const Vec g = j == 0 ? Vec(-dP.col(0) - dP.col(1) - dP.col(2)) : Vec(dP.col(j - 1));
-      for (int c = 0; c < 3; ++c) grad[3 * k + c] += d->unit[k] * g[c];
+      for (int c = 0; c < 3; ++c) grad[3 * k + c] += d->unit[k] * g[j][c];
     }
   }
   return e;
 }
 
-void untangle_jointly(VolumeMap& vm, const std::vector<std::vector<int>>& nbrs, const std::vector<std::vector<int>>& tets_of,
-                      int rings, int max_rounds) {
-  const int n = vm.surface_vertices, np = static_cast<int>(vm.parameter.size());
+// Minimizes the energy over the parameter positions of `active` (free vertices), the others fixed.
+// max_evaluations bounds L-BFGS per round.
+// eps0: the first regularization (1 to untangle; tiny for a positive map, so that the energy is a
+// barrier at det J = 0 from the start).
+void minimize_energy(VolumeMap& vm, const std::set<int>& active, const std::vector<std::vector<int>>& tets_of, int max_rounds,
+                     int max_evaluations, double eps0) {
+  if (active.empty()) return;
   GlobalData d;
   d.vm = &vm;
-  d.var_of.assign(np, -1);
-  std::set<int> active;
-  for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
-    if (!(volume6(vm.parameter, vm.tets[t]) > 0))
-      for (int v : vm.tets[t])
-        if (v >= n) active.insert(v);
-  for (int r = 0; r < rings; ++r) {
-    std::set<int> grown = active;
-    for (int v : active)
-      for (int u : nbrs[v])
-        if (u >= n) grown.insert(u);
-    active.swap(grown);
-  }
-  if (active.empty()) return;
+  d.eps = eps0;
+  d.var_of.assign(vm.parameter.size(), -1);
   std::set<int> tets;
   for (int v : active) {
     d.var_of[v] = static_cast<int>(d.vars.size());
@@ -380,7 +392,7 @@ void untangle_jointly(VolumeMap& vm, const std::vector<std::vector<int>>& nbrs, 
     d.eps = d.det_min < mu ? std::max(1e-12, 2 * std::sqrt(mu * (mu - d.det_min))) : 1e-12;
     nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(x.size()));
     opt.set_min_objective(global_energy, &d);
-    opt.set_maxeval(300);
+    opt.set_maxeval(max_evaluations);
     opt.set_ftol_rel(1e-9);
     double e = 0;
     try {
@@ -398,6 +410,105 @@ void untangle_jointly(VolumeMap& vm, const std::vector<std::vector<int>>& nbrs, 
     e_prev = e;
   }
   if (!(d.det_min > 0)) global_energy(static_cast<unsigned>(best_x.size()), best_x.data(), nullptr, &d);  // writes the best positions
+}
+
+void untangle_jointly(VolumeMap& vm, const std::vector<std::vector<int>>& nbrs, const std::vector<std::vector<int>>& tets_of,
+                      int rings, int max_rounds) {
+  const int n = vm.surface_vertices;
+  std::set<int> active;
+  for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
+    if (!(volume6(vm.parameter, vm.tets[t]) > 0))
+      for (int v : vm.tets[t])
+        if (v >= n) active.insert(v);
+  for (int r = 0; r < rings; ++r) {
+    std::set<int> grown = active;
+    for (int v : active)
+      for (int u : nbrs[v])
+        if (u >= n) grown.insert(u);
+    active.swap(grown);
+  }
+  minimize_energy(vm, active, tets_of, max_rounds, 300, 1.0);
+}
+
+// After untangling, a map that is positive but nearly degenerate somewhere (the untangler only lifts
+// tets to 1e-4 of the mean volume; measured min volume ratio 1e-8 on the eight and the washer)
+// makes the T-mesh sampled from it fold. Each interior vertex in turn descends the energy of its
+// tets with eps = 0 (a barrier at det J = 0): steepest descent with backtracking that never lets
+// a tet reach det J <= 0. Per vertex, not jointly: on sliver reference shapes NLopt's joint L-BFGS
+// failed at its first line search (measured on the eight), a per-vertex search cannot.
+void smooth_map(VolumeMap& vm, const std::vector<std::vector<int>>& tets_of, int sweeps) {
+  double phys = 0;
+  for (const Tet& t : vm.tets) phys += volume6(vm.physical, t) / 6;
+  const double scale = std::cbrt(phys / vm.parameter_volume);  // det J averages 1, as in minimize_energy
+  std::vector<Eigen::Matrix3d> s_inv(vm.tets.size());
+  std::vector<double> weight(vm.tets.size());
+  for (std::size_t t = 0; t < vm.tets.size(); ++t) {
+    Eigen::Matrix3d S;
+    for (int j = 0; j < 3; ++j) S.col(j) = vm.physical[vm.tets[t][j + 1]] - vm.physical[vm.tets[t][0]];
+    s_inv[t] = S.inverse() * scale;
+    weight[t] = S.determinant() / 6;
+  }
+  auto& p = vm.parameter;
+  // Energy of v's tets and its gradient in v; +inf if a tet is not positive.
+  const auto local = [&](int v, Vec* g) {
+    double e = 0;
+    if (g) g->setZero();
+    for (int t : tets_of[v]) {
+      Eigen::Matrix3d dJ;
+      double D = 0;
+      const double f = tet_energy(tet_jacobian(p, vm.tets[t], s_inv[t]), 0.0, &D, g ? &dJ : nullptr);
+      if (!(D > 0)) return HUGE_VAL;
+      e += weight[t] * f;
+      if (!g) continue;
+      const std::array<Vec, 4> gv = vertex_gradients(dJ, s_inv[t], weight[t]);
+      for (int j = 0; j < 4; ++j)
+        if (vm.tets[t][j] == v) *g += gv[j];
+    }
+    return e;
+  };
+  double total = 0;  // the energy of the whole map, for the stopping rule
+  for (std::size_t t = 0; t < vm.tets.size(); ++t) {
+    double D = 0;
+    total += weight[t] * tet_energy(tet_jacobian(p, vm.tets[t], s_inv[t]), 0.0, &D, nullptr);
+  }
+  for (int sweep = 0; sweep < sweeps; ++sweep) {
+    double decrease = 0;
+    for (int v = vm.surface_vertices; v < static_cast<int>(p.size()); ++v) {
+      for (int it = 0; it < 8; ++it) {
+        Vec g;
+        const double e0 = local(v, &g);
+        if (!std::isfinite(e0) || g.squaredNorm() == 0) break;
+        double h = HUGE_VAL;  // the step is at most a tenth of the shortest edge at v (parameter space)
+        for (int t : tets_of[v])
+          for (int u : vm.tets[t])
+            if (u != v) h = std::min(h, (p[u] - p[v]).norm());
+        const Vec x0 = p[v], dir = -g.normalized();
+        bool moved = false;
+        for (double step = 0.5 * h; step > 1e-6 * h; step *= 0.5) {
+          p[v] = x0 + step * dir;
+          const double e1 = local(v, nullptr);
+          if (e1 < e0 - 1e-4 * step * g.norm()) {
+            moved = true;
+            decrease += e0 - e1;
+            break;
+          }
+        }
+        if (!moved) {
+          p[v] = x0;
+          break;
+        }
+      }
+    }
+    total -= decrease;
+    if (decrease < 1e-5 * total) break;  // converged: later sweeps would not change the T-mesh
+  }
+}
+
+std::vector<std::vector<int>> tets_of_points(const VolumeMap& vm) {
+  std::vector<std::vector<int>> tets_of(vm.parameter.size());
+  for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
+    for (int v : vm.tets[t]) tets_of[v].push_back(t);
+  return tets_of;
 }
 
 void untangle(VolumeMap& vm, const Params& params) {
@@ -539,9 +650,20 @@ VolumeMap harmonic_volume_map(const surface::Mesh& surface, const std::vector<st
   vm.flipped_tets = flipped();
   double phys = 0;
   for (const Tet& t : vm.tets) phys += volume6(vm.physical, t) / 6;
-  vm.min_volume_ratio = HUGE_VAL;
-  for (const Tet& t : vm.tets)
-    vm.min_volume_ratio = std::min(vm.min_volume_ratio, (volume6(vm.parameter, t) / volume6(vm.physical, t)) * (phys / vm.parameter_volume));
+  const double to_rel = phys / vm.parameter_volume;  // min_volume_ratio is relative to the mean
+  const auto min_ratio = [&] {
+    double m = HUGE_VAL;
+    for (const Tet& t : vm.tets) m = std::min(m, volume6(vm.parameter, t) / volume6(vm.physical, t));
+    return m * to_rel;
+  };
+  vm.min_volume_ratio = vm.min_volume_ratio_before_smoothing = min_ratio();
+  if (vm.flipped_tets == 0 && vm.min_volume_ratio < params.smooth_below_ratio && params.smooth_sweeps > 0) {
+    core::LogSection s("smooth");
+    smooth_map(vm, tets_of_points(vm), params.smooth_sweeps);
+    vm.min_volume_ratio = min_ratio();
+    core::log("volmap: min volume ratio " + std::to_string(vm.min_volume_ratio_before_smoothing) + " -> " + std::to_string(vm.min_volume_ratio) +
+              " after smoothing");
+  }
   core::log_verbose("volmap: " + std::to_string(vm.tets.size()) + " tets, " + std::to_string(vm.flipped_tets_before_untangling) +
                     " flipped by the harmonic map, " + std::to_string(vm.flipped_tets) + " after untangling");
   return vm;

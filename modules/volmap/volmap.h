@@ -37,6 +37,12 @@ struct Params {
   /// Untangling target: tets whose parameter volume is below this fraction of the mean parameter
   /// tet volume are improved [0, 1); 0 = only inverted and flat tets.
   double untangle_min_volume_rel = 1e-4;
+  /// Smoothing of a nearly degenerate map: if after untangling the min volume ratio (see
+  /// VolumeMap::min_volume_ratio) is below smooth_below_ratio, every interior vertex in turn
+  /// descends the foldover-free energy of Garanzha et al. 2021 of its tets (as a barrier: no tet
+  /// reaches det J <= 0), smooth_sweeps times [0, 1).
+  double smooth_below_ratio = 1e-3;
+  int smooth_sweeps = 300;  ///< bound; it stops earlier when a sweep lowers the energy by < 1e-5 of it [0, 10000]; 0 = none
 };
 
 /// A tet mesh of the solid with a position in physical space and one in parameter space per point.
@@ -64,6 +70,9 @@ struct VolumeMap {
   /// min over tets of (parameter volume / physical volume) / (total parameter / total physical
   /// volume): the smallest relative Jacobian of the map; 1 for an affine map, <= 0 iff a tet is flipped.
   double min_volume_ratio = 0;
+  /// min_volume_ratio before smoothing (equal to it if the map was not smoothed); optional in stage
+  /// files written before it existed
+  double min_volume_ratio_before_smoothing = 0;
   double parameter_volume = 0;             ///< volume of the parameter domain
 };
 
