@@ -332,6 +332,23 @@ double global_energy(unsigned nx, const double* x, double* grad, void* data) {
 
 // Minimizes the energy over the parameter positions of `active` (free vertices), the others fixed.
 // max_evaluations bounds L-BFGS per round.
+// The free (interior) vertices of `tets` and those within `rings` rings of them.
+std::set<int> free_vertices_near(const VolumeMap& vm, const std::vector<int>& tets, const std::vector<std::vector<int>>& nbrs, int rings) {
+  const int n = vm.surface_vertices;
+  std::set<int> active;
+  for (int t : tets)
+    for (int v : vm.tets[t])
+      if (v >= n) active.insert(v);
+  for (int r = 0; r < rings; ++r) {
+    std::set<int> grown = active;
+    for (int v : active)
+      for (int u : nbrs[v])
+        if (u >= n) grown.insert(u);
+    active.swap(grown);
+  }
+  return active;
+}
+
 // eps0: the first regularization (1 to untangle; tiny for a positive map, so that the energy is a
 // barrier at det J = 0 from the start).
 void minimize_energy(VolumeMap& vm, const std::set<int>& active, const std::vector<std::vector<int>>& tets_of, int max_rounds,
@@ -414,20 +431,10 @@ void minimize_energy(VolumeMap& vm, const std::set<int>& active, const std::vect
 
 void untangle_jointly(VolumeMap& vm, const std::vector<std::vector<int>>& nbrs, const std::vector<std::vector<int>>& tets_of,
                       int rings, int max_rounds) {
-  const int n = vm.surface_vertices;
-  std::set<int> active;
+  std::vector<int> inverted;
   for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
-    if (!(volume6(vm.parameter, vm.tets[t]) > 0))
-      for (int v : vm.tets[t])
-        if (v >= n) active.insert(v);
-  for (int r = 0; r < rings; ++r) {
-    std::set<int> grown = active;
-    for (int v : active)
-      for (int u : nbrs[v])
-        if (u >= n) grown.insert(u);
-    active.swap(grown);
-  }
-  minimize_energy(vm, active, tets_of, max_rounds, 300, 1.0);
+    if (!(volume6(vm.parameter, vm.tets[t]) > 0)) inverted.push_back(t);
+  minimize_energy(vm, free_vertices_near(vm, inverted, nbrs, rings), tets_of, max_rounds, 300, 1.0);
 }
 
 // After untangling, a map that is positive but nearly degenerate somewhere (the untangler only lifts
@@ -512,7 +519,7 @@ std::vector<std::vector<int>> tets_of_points(const VolumeMap& vm) {
 }
 
 void untangle(VolumeMap& vm, const Params& params) {
-  const int np = static_cast<int>(vm.parameter.size()), n = vm.surface_vertices;
+  const int np = static_cast<int>(vm.parameter.size());
   const int nt = static_cast<int>(vm.tets.size());
   std::vector<std::vector<int>> tets_of(np), nbrs(np);
   for (int t = 0; t < nt; ++t)
@@ -544,18 +551,7 @@ void untangle(VolumeMap& vm, const Params& params) {
     if (bad.empty()) return;
     vm.untangle_stop = "done";
     while (vm.untangle_sweeps < budget_end && !bad.empty()) {
-      std::set<int> active;
-      for (int t : bad)
-        for (int v : vm.tets[t])
-          if (v >= n) active.insert(v);
-      for (int r = 0; r < ring; ++r) {
-        std::set<int> grown = active;
-        for (int v : active)
-          for (int u : nbrs[v])
-            if (u >= n) grown.insert(u);
-        active.swap(grown);
-      }
-      for (int v : active) vm.untangle_moves += optimize_vertex(vm, tets_of[v], nbrs, v);
+      for (int v : free_vertices_near(vm, bad, nbrs, ring)) vm.untangle_moves += optimize_vertex(vm, tets_of[v], nbrs, v);
       ++vm.untangle_sweeps;
       const std::vector<int> now = bad_tets();
       double w = HUGE_VAL;
