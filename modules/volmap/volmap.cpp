@@ -331,7 +331,6 @@ double global_energy(unsigned nx, const double* x, double* grad, void* data) {
 }
 
 // Minimizes the energy over the parameter positions of `active` (free vertices), the others fixed.
-// max_evaluations bounds L-BFGS per round.
 // The free (interior) vertices of `tets` and those within `rings` rings of them.
 std::set<int> free_vertices_near(const VolumeMap& vm, const std::vector<int>& tets, const std::vector<std::vector<int>>& nbrs, int rings) {
   const int n = vm.surface_vertices;
@@ -349,14 +348,10 @@ std::set<int> free_vertices_near(const VolumeMap& vm, const std::vector<int>& te
   return active;
 }
 
-// eps0: the first regularization (1 to untangle; tiny for a positive map, so that the energy is a
-// barrier at det J = 0 from the start).
-void minimize_energy(VolumeMap& vm, const std::set<int>& active, const std::vector<std::vector<int>>& tets_of, int max_rounds,
-                     int max_evaluations, double eps0) {
+void minimize_energy(VolumeMap& vm, const std::set<int>& active, const std::vector<std::vector<int>>& tets_of, int max_rounds) {
   if (active.empty()) return;
   GlobalData d;
   d.vm = &vm;
-  d.eps = eps0;
   d.var_of.assign(vm.parameter.size(), -1);
   std::set<int> tets;
   for (int v : active) {
@@ -409,7 +404,7 @@ void minimize_energy(VolumeMap& vm, const std::set<int>& active, const std::vect
     d.eps = d.det_min < mu ? std::max(1e-12, 2 * std::sqrt(mu * (mu - d.det_min))) : 1e-12;
     nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(x.size()));
     opt.set_min_objective(global_energy, &d);
-    opt.set_maxeval(max_evaluations);
+    opt.set_maxeval(300);
     opt.set_ftol_rel(1e-9);
     double e = 0;
     try {
@@ -434,7 +429,7 @@ void untangle_jointly(VolumeMap& vm, const std::vector<std::vector<int>>& nbrs, 
   std::vector<int> inverted;
   for (int t = 0; t < static_cast<int>(vm.tets.size()); ++t)
     if (!(volume6(vm.parameter, vm.tets[t]) > 0)) inverted.push_back(t);
-  minimize_energy(vm, free_vertices_near(vm, inverted, nbrs, rings), tets_of, max_rounds, 300, 1.0);
+  minimize_energy(vm, free_vertices_near(vm, inverted, nbrs, rings), tets_of, max_rounds);
 }
 
 // After untangling, a map that is positive but nearly degenerate somewhere (the untangler only lifts
@@ -485,7 +480,7 @@ void smooth_map(VolumeMap& vm, const std::vector<std::vector<int>>& tets_of, int
         Vec g;
         const double e0 = local(v, &g);
         if (!std::isfinite(e0) || g.squaredNorm() == 0) break;
-        double h = HUGE_VAL;  // the step is at most a tenth of the shortest edge at v (parameter space)
+        double h = HUGE_VAL;  // the step is at most half the shortest edge at v (parameter space)
         for (int t : tets_of[v])
           for (int u : vm.tets[t])
             if (u != v) h = std::min(h, (p[u] - p[v]).norm());
