@@ -1,7 +1,9 @@
 #include "polycube_input.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -22,10 +24,95 @@ namespace volts::pipeline {
 
 namespace {
 
+// The surface map of a ring on its four round faces, evaluated where it is defined: the
+// surface triangles in the developed coordinates of each face (A = cube index + a around the
+// ring, and b or c across), where they tile the face exactly and are affine images of the patch
+// maps. Point location in the tets instead puts points of the inner round face, which lie inside
+// the tets' chords, up to the chords' sagitta inside the surface, at positions that depend on the
+// interior vertices (smoothing them moved the spline's boundary).
+class RingSurface {
+ public:
+  RingSurface(const volmap::VolumeMap& vm, const polycube::Embedding& e) : ring_(e.ring) {
+    std::vector<std::array<double, 3>> dev(static_cast<std::size_t>(vm.surface_vertices));  // (A, b, c)
+    for (int v = 0; v < vm.surface_vertices; ++v) {
+      const Eigen::Vector3d& x = vm.parameter[static_cast<std::size_t>(v)];
+      double theta = std::atan2(x[1], x[0]);
+      if (theta < 0) theta += 2 * M_PI;
+      dev[static_cast<std::size_t>(v)] = {theta * e.ring / (2 * M_PI), std::hypot(x[0], x[1]) - 1, e.mirrored ? 1 - x[2] : x[2]};
+    }
+    physical_.assign(vm.physical.begin(), vm.physical.begin() + vm.surface_vertices);
+    // Boundary faces of the tets: surface vertices only, each face of one tet.
+    std::map<std::array<int, 3>, int> count;
+    for (const auto& t : vm.tets)
+      for (int f = 0; f < 4; ++f) {
+        std::array<int, 3> k{t[(f + 1) % 4], t[(f + 2) % 4], t[(f + 3) % 4]};
+        std::sort(k.begin(), k.end());
+        ++count[k];
+      }
+    for (const auto& [k, n] : count) {
+      if (n != 1 || k[2] >= vm.surface_vertices) continue;
+      for (int face = 0; face < 4; ++face) {  // b = 0, b = 1, c = 0, c = 1
+        const int across = 1 + face / 2;
+        const double level = face % 2;
+        if (std::all_of(k.begin(), k.end(), [&](int v) { return std::abs(dev[static_cast<std::size_t>(v)][static_cast<std::size_t>(across)] - level) < 1e-9; })) {
+          Tri tri{k, {}};
+          for (int j = 0; j < 3; ++j)
+            tri.uv[j] = {dev[static_cast<std::size_t>(k[j])][0], dev[static_cast<std::size_t>(k[j])][static_cast<std::size_t>(3 - across)]};
+          faces_[face].push_back(tri);
+        }
+      }
+    }
+  }
+
+  /// The surface point of local coordinates x (after the b <-> c swap) of cube k, if x lies on one
+  /// of the round faces; nullopt otherwise.
+  std::optional<std::array<double, 3>> physical(int k, const std::array<double, 3>& x) const {
+    for (int face = 0; face < 4; ++face) {
+      const int across = 1 + face / 2;
+      if (std::abs(x[static_cast<std::size_t>(across)] - face % 2) > 1e-12) continue;
+      const double u = k + x[0], w = x[static_cast<std::size_t>(3 - across)];
+      const Tri* best = nullptr;
+      std::array<double, 3> best_b{};
+      double best_min = -HUGE_VAL;
+      for (const Tri& t : faces_[face]) {
+        std::array<std::array<double, 2>, 3> p = t.uv;
+        // The seam at A = 0: the triangle made whole first, then moved by whole turns next to u.
+        for (int j = 1; j < 3; ++j) p[j][0] = p[0][0] + std::remainder(p[j][0] - p[0][0], ring_);
+        const double shift = u + std::remainder(p[0][0] - u, ring_) - p[0][0];
+        for (auto& q : p) q[0] += shift;
+        const double d = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+        if (d == 0) continue;
+        const double b1 = ((u - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (w - p[0][1])) / d;
+        const double b2 = ((p[1][0] - p[0][0]) * (w - p[0][1]) - (u - p[0][0]) * (p[1][1] - p[0][1])) / d;
+        const std::array<double, 3> b{1 - b1 - b2, b1, b2};
+        const double m = std::min({b[0], b[1], b[2]});
+        if (m > best_min) best_min = m, best = &t, best_b = b;
+        if (m >= 0) break;
+      }
+      if (!best || best_min < -1e-6) return std::nullopt;
+      Eigen::Vector3d y = Eigen::Vector3d::Zero();
+      for (int j = 0; j < 3; ++j) y += std::clamp(best_b[static_cast<std::size_t>(j)], 0.0, 1.0) * physical_[static_cast<std::size_t>(best->v[static_cast<std::size_t>(j)])];
+      y /= std::clamp(best_b[0], 0.0, 1.0) + std::clamp(best_b[1], 0.0, 1.0) + std::clamp(best_b[2], 0.0, 1.0);
+      return std::array<double, 3>{y[0], y[1], y[2]};
+    }
+    return std::nullopt;
+  }
+
+ private:
+  struct Tri {
+    std::array<int, 3> v;
+    std::array<std::array<double, 2>, 3> uv;  // developed (A, the other in-face coordinate)
+  };
+  int ring_ = 0;
+  std::array<std::vector<Tri>, 4> faces_;
+  std::vector<Eigen::Vector3d> physical_;
+};
+
 // One ring of cubes (a torus, §4.2): its embedding and the point location of its volume map.
 struct Ring {
   polycube::Embedding embedding;
   std::unique_ptr<volmap::Locator> locate;
+  std::unique_ptr<RingSurface> surface;  // points on the round faces
   bool swap = false;  // b <-> c, so that the cubes' parameters are right-handed in physical space
 };
 
@@ -59,6 +146,7 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
   } catch (const core::Json::exception& x) {
     throw core::InvalidInputError(in + ": malformed polycube.cells: " + x.what());
   }
+  r.surface = std::make_unique<RingSurface>(vm, e);
   // The ring's local frame is right- or left-handed depending on the directions split chose; the
   // sign of the map's Jacobian at the first cube's centre (central differences) tells which.
   const double h = 0.05;
@@ -95,9 +183,13 @@ tmesh::PolycubeMaps ring_maps(std::vector<Ring> list) {
     x[0] += 10.0 * r;  // the round ring's radius is 2
     return x;
   };
-  m.physical = [local, rings](int c, const tmesh::Vec3& abc) {
+  m.physical = [local, rings, cube](int c, const tmesh::Vec3& abc) {
     const auto [r, x] = local(c, abc);
-    const auto p = (*rings)[static_cast<std::size_t>(r)].locate->physical(x);
+    const Ring& ring = (*rings)[static_cast<std::size_t>(r)];
+    std::array<double, 3> y = abc;
+    if (ring.swap) std::swap(y[1], y[2]);
+    if (const auto s = ring.surface->physical(cube.at(static_cast<std::size_t>(c)).second, y)) return *s;
+    const auto p = ring.locate->physical(x);
     if (!p) throw core::NumericalError("tmesh: cube " + std::to_string(c) + " point outside the volume map");
     return *p;
   };

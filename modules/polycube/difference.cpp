@@ -315,6 +315,7 @@ volmap::VolumeMap difference_volume_map(const split::Decomposition& d, const Dif
   volmap::Params vp;
   vp.tetgen.max_volume_rel = params.tet_max_volume_rel;
   vp.smooth_sweeps = params.smooth_sweeps;
+  vp.smooth_below_ratio = params.smooth_below_ratio;
   return volmap::harmonic_volume_map(difference_solid(d, m), m.points, vp);
 }
 

@@ -28,9 +28,10 @@ struct Params {
   /// Volume map of tori (volmap): largest tet / volume of the solid. With TetGen's default sizes
   /// untangling left flipped tets at the ring's reentrant edges (docs/status.md) [1e-6, 1].
   double tet_max_volume_rel = 1e-3;
-  /// Volume maps whose min volume ratio stays below 1e-3 after untangling get this many sweeps of
-  /// per-vertex smoothing (volmap::Params::smooth_sweeps); 0 = none [0, 10000].
+  /// Volume maps whose min volume ratio stays below `smooth_below_ratio` after untangling get this
+  /// many sweeps of per-vertex smoothing (volmap::Params::smooth_sweeps); 0 = none [0, 10000].
   int smooth_sweeps = 300;
+  double smooth_below_ratio = 1e-3;  ///< min volume ratio (smallest tet volume / mean, dimensionless) [0, 1]
 };
 
 /// The polycube (so far one unit cube) and the surface map onto it.

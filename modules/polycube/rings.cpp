@@ -182,6 +182,7 @@ volmap::VolumeMap torus_volume_map(const split::Decomposition& d, const TorusSur
   volmap::Params vp;
   vp.tetgen.max_volume_rel = params.tet_max_volume_rel;
   vp.smooth_sweeps = params.smooth_sweeps;
+  vp.smooth_below_ratio = params.smooth_below_ratio;
   return volmap::harmonic_volume_map(split::layout_mesh(d.layout, true), m.embedding.points, vp);
 }
 

@@ -30,8 +30,8 @@ void check(const surface::Mesh& surface, const std::vector<std::array<double, 3>
     throw core::ConfigError("volmap untangle_max_sweeps must be in [0, 100000]");
   if (!(p.untangle_min_volume_rel >= 0 && p.untangle_min_volume_rel < 1))
     throw core::ConfigError("volmap untangle_min_volume_rel must be in [0, 1)");
-  if (!(p.smooth_below_ratio >= 0 && p.smooth_below_ratio < 1) || p.smooth_sweeps < 0 || p.smooth_sweeps > 10000)
-    throw core::ConfigError("volmap smooth_below_ratio must be in [0, 1) and smooth_sweeps in [0, 10000]");
+  if (!(p.smooth_below_ratio >= 0 && p.smooth_below_ratio <= 1) || p.smooth_sweeps < 0 || p.smooth_sweeps > 10000)
+    throw core::ConfigError("volmap smooth_below_ratio must be in [0, 1] and smooth_sweeps in [0, 10000]");
   if (!p.tetgen.keep_boundary)
     throw core::ConfigError("volmap needs tetgen keep_boundary = true: the boundary condition is given per surface vertex");
   if (surface.has_garbage())

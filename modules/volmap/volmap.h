@@ -40,7 +40,7 @@ struct Params {
   /// Smoothing of a nearly degenerate map: if after untangling the min volume ratio (see
   /// VolumeMap::min_volume_ratio) is below smooth_below_ratio, every interior vertex in turn
   /// descends the foldover-free energy of Garanzha et al. 2021 of its tets (as a barrier: no tet
-  /// reaches det J <= 0), smooth_sweeps times [0, 1).
+  /// reaches det J <= 0), smooth_sweeps times [0, 1].
   double smooth_below_ratio = 1e-3;
   int smooth_sweeps = 300;  ///< bound; it stops earlier when a sweep lowers the energy by < 1e-5 of it [0, 10000]; 0 = none
 };
