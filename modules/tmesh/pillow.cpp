@@ -17,59 +17,119 @@ Vec3 block_point(const std::array<Vec3, 8>& c, const Vec3& uvw) {
   return x;
 }
 
+namespace {
+
+// Interval ends 0, cuts..., 1 along cube axis d, after checking the cuts.
+std::vector<double> cut_ends(int d, const std::vector<double>& cuts) {
+  const std::string where = " along cube axis " + std::to_string(d);
+  std::vector<double> t{0.0};
+  for (const double u : cuts) {
+    if (!(u > 0 && u < 1)) throw core::ConfigError("tmesh: cut " + std::to_string(u) + where + " is not in (0, 1)");
+    if (!(u > t.back())) throw core::ConfigError("tmesh: cuts" + where + " are not strictly increasing at " + std::to_string(u));
+    if (u - t.back() < kMinCutGap) throw core::ConfigError("tmesh: cut " + std::to_string(u) + where + " is too close to the previous one or to 0");
+    t.push_back(u);
+  }
+  if (1 - t.back() < kMinCutGap) throw core::ConfigError("tmesh: cut " + std::to_string(t.back()) + where + " is too close to 1");
+  t.push_back(1.0);
+  return t;
+}
+
+// n elements over the intervals of ends t by length: one each, then one at a time to the interval
+// furthest below its share (largest remainder when every share is at least one).
+std::vector<int> spread(int n, const std::vector<double>& t) {
+  const std::size_t k = t.size() - 1;
+  std::vector<int> c(k, 1);
+  auto deficit = [&](std::size_t i) { return n * (t[i + 1] - t[i]) - c[i]; };
+  for (int left = n - static_cast<int>(k); left > 0; --left) {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < k; ++i)
+      if (deficit(i) > deficit(best)) best = i;
+    ++c[best];
+  }
+  return c;
+}
+
+// lo + u (hi - lo), exactly lo and hi at the ends (so uncut blocks are bitwise today's).
+double lerp(double lo, double hi, double u) { return u == 1 ? hi : lo + u * (hi - lo); }
+
+}  // namespace
+
 std::vector<Block> cube_blocks(const std::array<int, 6>& boundary, const std::array<int, 3>& elements, int layers) {
+  return cube_blocks(boundary, elements, layers, {});
+}
+
+std::vector<Block> cube_blocks(const std::array<int, 6>& boundary, const std::array<int, 3>& elements, int layers,
+                               const std::array<std::vector<double>, 3>& cuts) {
   if (layers < 0) throw core::ConfigError("tmesh.pillow_layers must be >= 0, got " + std::to_string(layers));
   for (const int n : elements)
     if (n < 1) throw core::ConfigError("tmesh: a cube needs at least one element per direction");
-  auto box = [](const Vec3& lo, const Vec3& hi) {
-    std::array<Vec3, 8> c;
-    for (int i = 0; i < 8; ++i)
-      for (int d = 0; d < 3; ++d) c[i][d] = (i >> d) & 1 ? hi[d] : lo[d];
-    return c;
-  };
-  if (layers == 0) {
-    Block b;
-    b.corners = box({0, 0, 0}, {1, 1, 1});
-    b.elements = elements;
-    b.boundary = boundary;
-    return {b};
+  std::array<std::vector<double>, 3> t;
+  std::array<std::vector<int>, 3> n;
+  std::array<int, 3> pieces{};
+  for (std::size_t d = 0; d < 3; ++d) {
+    t[d] = cut_ends(static_cast<int>(d), cuts[d]);
+    n[d] = spread(elements[d], t[d]);
+    pieces[d] = static_cast<int>(n[d].size());
   }
-  // Core extent: pulled in from every surface face by `layers` elements of the cube's spacing.
+  // Core extent: pulled in from every surface face by `layers` elements of the cube's spacing
+  // (the whole cube without pillow).
   Vec3 lo{0, 0, 0}, hi{1, 1, 1};
-  for (int d = 0; d < 3; ++d) {
-    const int sides = boundary[2 * d] + boundary[2 * d + 1];
-    const double h = 1.0 / (elements[d] + sides * layers);
-    if (boundary[2 * d]) lo[d] = layers * h;
-    if (boundary[2 * d + 1]) hi[d] = 1 - layers * h;
-  }
+  if (layers > 0)
+    for (std::size_t d = 0; d < 3; ++d) {
+      const int sides = boundary[2 * d] + boundary[2 * d + 1];
+      const double h = 1.0 / (elements[d] + sides * layers);
+      if (boundary[2 * d]) lo[d] = layers * h;
+      if (boundary[2 * d + 1]) hi[d] = 1 - layers * h;
+    }
   std::vector<Block> blocks;
-  Block core;
-  core.corners = box(lo, hi);
-  core.elements = elements;
-  blocks.push_back(core);
-  for (int a = 0; a < 3; ++a)
-    for (int s = 0; s < 2; ++s) {
-      if (!boundary[2 * a + s]) continue;
-      Block slab;
-      slab.pillow = true;
-      slab.elements = elements;
-      slab.elements[a] = layers;
-      slab.boundary[2 * a + s] = 1;
-      // Local axes are the cube's (orientation kept); along a, the side toward the face is the
-      // cube face, the other the core face. The outer face spans the whole cube face, the inner
-      // face the core's, so the slab's sides are diagonal where the next face is a surface face
-      // too and flat (on the cube face) where it is not.
-      for (int i = 0; i < 8; ++i) {
-        const bool outer = ((i >> a) & 1) == s;
-        Vec3 x;
-        for (int d = 0; d < 3; ++d) {
-          const int bit = (i >> d) & 1;
-          if (d == a) x[d] = outer ? s : (s ? hi[d] : lo[d]);
-          else x[d] = outer ? bit : (bit ? hi[d] : lo[d]);
+  for (int k = 0; k < pieces[2]; ++k)
+    for (int j = 0; j < pieces[1]; ++j)
+      for (int i = 0; i < pieces[0]; ++i) {
+        const std::array<int, 3> at{i, j, k};
+        Block b;
+        for (std::size_t c = 0; c < 8; ++c)
+          for (std::size_t d = 0; d < 3; ++d) b.corners[c][d] = lerp(lo[d], hi[d], t[d][static_cast<std::size_t>(at[d]) + ((c >> d) & 1)]);
+        for (std::size_t d = 0; d < 3; ++d) {
+          b.elements[d] = n[d][static_cast<std::size_t>(at[d])];
+          if (layers == 0) {
+            b.boundary[2 * d] = at[d] == 0 && boundary[2 * d];
+            b.boundary[2 * d + 1] = at[d] == pieces[d] - 1 && boundary[2 * d + 1];
+          }
         }
-        slab.corners[i] = x;
+        blocks.push_back(b);
       }
-      blocks.push_back(slab);
+  if (layers == 0) return blocks;
+  for (std::size_t a = 0; a < 3; ++a)
+    for (int s = 0; s < 2; ++s) {
+      if (!boundary[2 * a + static_cast<std::size_t>(s)]) continue;
+      std::array<int, 3> count = pieces;
+      count[a] = 1;  // not cut across its thickness
+      for (int k = 0; k < count[2]; ++k)
+        for (int j = 0; j < count[1]; ++j)
+          for (int i = 0; i < count[0]; ++i) {
+            const std::array<int, 3> at{i, j, k};
+            Block slab;
+            slab.pillow = true;
+            slab.boundary[2 * a + static_cast<std::size_t>(s)] = 1;
+            for (std::size_t d = 0; d < 3; ++d) slab.elements[d] = d == a ? layers : n[d][static_cast<std::size_t>(at[d])];
+            // Local axes are the cube's (orientation kept); along a, the side toward the face is
+            // the cube face, the other the core face. The outer face spans the whole cube face,
+            // the inner face the core's, so the slab's sides are diagonal where the next face is a
+            // surface face too and flat (on the cube face) where it is not; a cut is the ruled
+            // plane between the same relative position on both.
+            for (std::size_t c = 0; c < 8; ++c) {
+              const bool outer = static_cast<int>((c >> a) & 1) == s;
+              for (std::size_t d = 0; d < 3; ++d) {
+                if (d == a) {
+                  slab.corners[c][d] = outer ? s : (s ? hi[d] : lo[d]);
+                } else {
+                  const double u = t[d][static_cast<std::size_t>(at[d]) + ((c >> d) & 1)];
+                  slab.corners[c][d] = outer ? u : lerp(lo[d], hi[d], u);
+                }
+              }
+            }
+            blocks.push_back(slab);
+          }
     }
   return blocks;
 }

@@ -25,6 +25,27 @@ namespace volts::tmesh {
 /// element count < 1.
 std::vector<Block> cube_blocks(const std::array<int, 6>& boundary, const std::array<int, 3>& elements, int layers);
 
+/// Minimum distance between cuts, and from a cut to 0 and 1: closer ones are slivers, not features.
+constexpr double kMinCutGap = 1e-6;
+
+/// The same blocks cut along sharp curves inside cube faces (issue 7; the paper's repeated knots:
+/// a crease on a block face is C0, inside a block the C2 spline would fold). cuts[d]: relative
+/// positions u in (0,1), strictly increasing, along cube axis d. Every block that spans axis d
+/// (all blocks except the slabs under the two faces perpendicular to d) is cut at its local
+/// parameter u: the core (the cube if layers == 0) at x_d = lo_d + u (hi_d - lo_d), a slab along
+/// the ruled plane from that line on its core face to x_d = u on its outer face. A slab's outer
+/// face is the whole cube face, so on every surface face the cut line lies at x_d = u.
+/// Elements along d are spread over the intervals by length (largest remainder, at least one
+/// each; the total stays elements[d] unless there are more intervals); the slabs follow the
+/// core's counts. Order: the core's pieces (index i + n0 (j + n1 k)), then each slab's pieces in
+/// the uncut order of the slabs. A piece of a slab keeps the slab's outer-face flag; cut faces
+/// are interior (0); with layers == 0 a piece is flagged on the parts of the cube's surface
+/// faces it has. No cuts: exactly the blocks of the overload above. Throws core::ConfigError as
+/// above, and for a cut outside (0,1), not strictly increasing, or closer than kMinCutGap to
+/// another cut, 0 or 1.
+std::vector<Block> cube_blocks(const std::array<int, 6>& boundary, const std::array<int, 3>& elements, int layers,
+                               const std::array<std::vector<double>, 3>& cuts);
+
 /// The blocks of a cube minus a through hole (Liu et al. 2013 §4.2 difference, §5.2 pillowing
 /// around "virtual cylinders"): the unit cube minus the box [hole_lo, hole_hi], which spans the cube
 /// along `axis`. Without layers: the eight columns around the hole, cut along the planes of its

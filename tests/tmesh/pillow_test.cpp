@@ -235,3 +235,291 @@ TEST(Pillow, DifferenceBlocksTileTheCubeMinusTheHoleConformingly) {
   EXPECT_THROW(tmesh::difference_blocks(2, {0.05, 0.3, 0}, {0.5, 0.6, 1}, 8, 1), core::TopologyError);
   EXPECT_THROW(tmesh::difference_blocks(2, {0.3, 0.3, 0.1}, {0.6, 0.6, 1}, 8, 1), core::TopologyError);
 }
+
+// Cuts along sharp curves inside cube faces (issue 7): the cut blocks still tile the cube with
+// positive Jacobian and keep its axes, conform face to face with equal element counts, every cut
+// line on a surface face is an edge between two surface faces (C0 there), and the elements along
+// an axis are spread over the intervals by length.
+namespace {
+
+using Cuts = std::array<std::vector<double>, 3>;
+
+// Jacobian matrix J[d][a] = d x_d / d u_a of the trilinear block at uvw.
+std::array<std::array<double, 3>, 3> jacobian(const std::array<Vec3, 8>& c, const Vec3& uvw) {
+  std::array<std::array<double, 3>, 3> J{};
+  for (std::size_t i = 0; i < 8; ++i)
+    for (std::size_t a = 0; a < 3; ++a) {
+      double w = 1;  // derivative of corner i's weight along a
+      for (std::size_t e = 0; e < 3; ++e) {
+        const bool bit = (i >> e) & 1;
+        w *= e == a ? (bit ? 1.0 : -1.0) : (bit ? uvw[e] : 1 - uvw[e]);
+      }
+      for (std::size_t d = 0; d < 3; ++d) J[d][a] += w * c[i][d];
+    }
+  return J;
+}
+
+double det(const std::array<std::array<double, 3>, 3>& J) {
+  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+}
+
+struct BlockFace {
+  std::array<Vec3, 4> x;  // corners (0,0), (1,0), (0,1), (1,1) in the face's two block directions
+  std::array<int, 2> n;   // element counts along them
+  int flag = 0;
+  std::size_t block = 0;
+};
+
+std::vector<BlockFace> block_faces(const std::vector<tmesh::Block>& blocks) {
+  std::vector<BlockFace> out;
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (std::size_t a = 0; a < 3; ++a)
+      for (std::size_t s = 0; s < 2; ++s) {
+        const std::size_t u = (a + 1) % 3, v = (a + 2) % 3;
+        BlockFace f;
+        for (std::size_t k = 0; k < 4; ++k) f.x[k] = blocks[b].corners[(s << a) | ((k & 1) << u) | ((k >> 1) << v)];
+        f.n = {blocks[b].elements[u], blocks[b].elements[v]};
+        f.flag = blocks[b].boundary[2 * a + s];
+        f.block = b;
+        out.push_back(f);
+      }
+  return out;
+}
+
+bool same_point(const Vec3& p, const Vec3& q) {
+  return std::abs(p[0] - q[0]) < 1e-12 && std::abs(p[1] - q[1]) < 1e-12 && std::abs(p[2] - q[2]) < 1e-12;
+}
+
+// Index in g of each corner of f, or -1 where g has no such corner.
+std::array<int, 4> corner_match(const BlockFace& f, const BlockFace& g) {
+  std::array<int, 4> m{-1, -1, -1, -1};
+  for (std::size_t k = 0; k < 4; ++k)
+    for (std::size_t l = 0; l < 4; ++l)
+      if (same_point(f.x[k], g.x[l])) m[k] = static_cast<int>(l);
+  return m;
+}
+
+// Element count of face f along its edge between corners p and q (an edge: they differ in one bit).
+int edge_count(const BlockFace& f, int p, int q) { return (p ^ q) == 1 ? f.n[0] : f.n[1]; }
+
+// Every block face lies on the cube's boundary (then no other block has it, and it is flagged iff
+// that cube face is a surface face) or is the whole face of exactly one other block, unflagged,
+// with the same element counts along its edges. Returns the area of the flagged faces.
+double check_cut_conformity(const std::vector<tmesh::Block>& blocks, const std::array<int, 6>& boundary) {
+  const auto faces = block_faces(blocks);
+  double area = 0;
+  for (const BlockFace& f : faces) {
+    int on_cube = -1;  // cube face 2 d + s that holds all four corners
+    for (std::size_t d = 0; d < 3; ++d)
+      for (int s = 0; s < 2; ++s)
+        if (std::all_of(f.x.begin(), f.x.end(), [&](const Vec3& p) { return std::abs(p[d] - s) < 1e-12; })) on_cube = static_cast<int>(2 * d) + s;
+    int shared = 0;
+    for (const BlockFace& g : faces) {
+      if (g.block == f.block) continue;
+      const auto m = corner_match(f, g);
+      if (std::count(m.begin(), m.end(), -1) > 0) continue;
+      ++shared;
+      for (const auto& [p, q] : {std::pair{0, 1}, std::pair{2, 3}, std::pair{0, 2}, std::pair{1, 3}})
+        EXPECT_EQ(edge_count(f, p, q), edge_count(g, m[static_cast<std::size_t>(p)], m[static_cast<std::size_t>(q)])) << "element counts differ across a shared face";
+    }
+    if (on_cube >= 0) {
+      EXPECT_EQ(shared, 0) << "a face on the cube's boundary shared by another block";
+      EXPECT_EQ(f.flag, boundary[static_cast<std::size_t>(on_cube)]);
+    } else {
+      EXPECT_EQ(shared, 1) << "an inner face that is not the whole face of exactly one other block";
+      EXPECT_EQ(f.flag, 0);
+    }
+    if (f.flag) {  // an axis-aligned rectangle on the cube face
+      double a = 1;
+      for (std::size_t d = 0; d < 3; ++d) {
+        const double ext = std::max({f.x[0][d], f.x[1][d], f.x[2][d], f.x[3][d]}) - std::min({f.x[0][d], f.x[1][d], f.x[2][d], f.x[3][d]});
+        if (ext > 1e-12) a *= ext;
+      }
+      area += a;
+    }
+  }
+  return area;
+}
+
+// Number of flagged block faces with p on one of their edges.
+int flagged_faces_with_edge_through(const std::vector<tmesh::Block>& blocks, const Vec3& p) {
+  int n = 0;
+  for (const BlockFace& f : block_faces(blocks)) {
+    if (!f.flag) continue;
+    bool on = false;
+    for (const auto& [i, j] : {std::pair{0, 1}, std::pair{2, 3}, std::pair{0, 2}, std::pair{1, 3}}) {
+      const Vec3 &a = f.x[static_cast<std::size_t>(i)], &b = f.x[static_cast<std::size_t>(j)];
+      double t = 0, len2 = 0;
+      for (std::size_t d = 0; d < 3; ++d) t += (p[d] - a[d]) * (b[d] - a[d]), len2 += (b[d] - a[d]) * (b[d] - a[d]);
+      t = std::clamp(t / len2, 0.0, 1.0);
+      double dist2 = 0;
+      for (std::size_t d = 0; d < 3; ++d) dist2 += std::pow(a[d] + t * (b[d] - a[d]) - p[d], 2);
+      on = on || dist2 < 1e-24;
+    }
+    n += on;
+  }
+  return n;
+}
+
+const std::array<std::array<int, 6>, 4> kBoundaries = {{{1, 1, 1, 1, 1, 1}, {0, 0, 1, 1, 1, 1}, {1, 0, 0, 0, 0, 0}, {0, 0, 0, 0, 0, 0}}};
+const std::array<std::array<int, 3>, 2> kElements = {{{8, 8, 8}, {3, 5, 4}}};
+const std::array<Cuts, 5> kCuts = {{{},                                  // none
+                                    {{{}, {}, {0.3}}},                   // one on one axis
+                                    {{{0.3, 0.55}, {0.4, 0.8}, {}}},     // two on two axes
+                                    {{{}, {0.41, 0.43, 0.45}, {}}},      // three close ones
+                                    {{{0.2, 0.4, 0.6, 0.8}, {}, {0.5}}}}};  // more intervals than elements along axis 0
+
+std::string describe(const std::array<int, 6>& boundary, const std::array<int, 3>& elements, int layers, std::size_t cuts) {
+  std::string s = "boundary";
+  for (const int b : boundary) s += " " + std::to_string(b);
+  return s + ", elements " + std::to_string(elements[0]) + " " + std::to_string(elements[1]) + " " + std::to_string(elements[2]) +
+         ", layers " + std::to_string(layers) + ", cuts #" + std::to_string(cuts);
+}
+
+}  // namespace
+
+TEST(PillowCuts, CutBlocksTileTheCubeWithPositiveJacobianAndTheCubesAxes) {
+  for (const auto& boundary : kBoundaries)
+    for (const auto& elements : kElements)
+      for (int layers = 0; layers <= 2; ++layers)
+        for (std::size_t c = 0; c < kCuts.size(); ++c) {
+          SCOPED_TRACE(describe(boundary, elements, layers, c));
+          const auto blocks = tmesh::cube_blocks(boundary, elements, layers, kCuts[c]);
+          std::size_t pieces = 1;
+          for (const auto& cut : kCuts[c]) pieces *= cut.size() + 1;
+          EXPECT_GE(blocks.size(), pieces);
+          check_blocks(blocks, layers > 0);  // pillowed: a slab has one surface face, the core none
+          // Volume: 2-point Gauss–Legendre per direction, exact for the trilinear Jacobian (degree 2 per variable).
+          const double g[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
+          double volume = 0;
+          for (const auto& b : blocks)
+            for (const double x : g)
+              for (const double y : g)
+                for (const double z : g) volume += det(jacobian(b.corners, {x, y, z})) / 8;
+          EXPECT_NEAR(volume, 1.0, 1e-12);
+          for (const auto& b : blocks)
+            for (int i = 0; i <= 4; ++i)
+              for (int j = 0; j <= 4; ++j)
+                for (int k = 0; k <= 4; ++k) {
+                  const auto J = jacobian(b.corners, {i / 4.0, j / 4.0, k / 4.0});
+                  EXPECT_GT(det(J), 0);
+                  for (std::size_t d = 0; d < 3; ++d) EXPECT_GT(J[d][d], 0) << "a block axis not along the cube's";
+                }
+        }
+}
+
+TEST(PillowCuts, BlocksConformFaceToFaceAndTheSurfaceFacesCoverTheCubesSurfaceFaces) {
+  for (const auto& boundary : kBoundaries)
+    for (const auto& elements : kElements)
+      for (int layers = 0; layers <= 2; ++layers)
+        for (std::size_t c = 0; c < kCuts.size(); ++c) {
+          SCOPED_TRACE(describe(boundary, elements, layers, c));
+          const double area = check_cut_conformity(tmesh::cube_blocks(boundary, elements, layers, kCuts[c]), boundary);
+          int faces = 0;
+          for (const int b : boundary) faces += b;
+          EXPECT_NEAR(area, faces, 1e-12);
+        }
+}
+
+TEST(PillowCuts, EveryCutLineOnASurfaceFaceIsAnEdgeBetweenTwoSurfaceFaces) {
+  // The washer's case: a torus cube, a crease around it at c = 0.3 on its faces b = 0 and b = 1.
+  const auto torus = tmesh::cube_blocks({0, 0, 1, 1, 1, 1}, {8, 8, 8}, 1, Cuts{{{}, {}, {0.3}}});
+  for (const double a : {0.05, 0.3, 0.5, 0.77, 0.95})
+    for (const double b : {0.0, 1.0}) {
+      EXPECT_EQ(flagged_faces_with_edge_through(torus, {a, b, 0.3}), 2) << "a = " << a << ", b = " << b;
+      EXPECT_EQ(flagged_faces_with_edge_through(torus, {a, b, 0.2}), 0) << "no edge off the cut";
+    }
+  // Every case: on every surface face e = s, the line x_d = u of every cut.
+  const double samples[] = {0.1234, 0.3777, 0.6021, 0.8765};  // none on a cut
+  for (const auto& boundary : kBoundaries)
+    for (int layers = 0; layers <= 2; ++layers)
+      for (std::size_t c = 0; c < kCuts.size(); ++c) {
+        SCOPED_TRACE(describe(boundary, {3, 5, 4}, layers, c));
+        const auto blocks = tmesh::cube_blocks(boundary, {3, 5, 4}, layers, kCuts[c]);
+        for (std::size_t d = 0; d < 3; ++d)
+          for (const double u : kCuts[c][d])
+            for (std::size_t e = 0; e < 3; ++e)
+              for (int s = 0; s < 2; ++s) {
+                if (e == d || !boundary[2 * e + static_cast<std::size_t>(s)]) continue;
+                const std::size_t f = 3 - d - e;
+                for (const double w : samples) {
+                  Vec3 p;
+                  p[d] = u, p[e] = s, p[f] = w;
+                  EXPECT_EQ(flagged_faces_with_edge_through(blocks, p), 2) << "cut " << u << " along axis " << d << " on face " << 2 * e + s;
+                }
+              }
+      }
+}
+
+TEST(PillowCuts, ElementsAreSpreadOverTheIntervalsByLength) {
+  // Largest remainder: 8 over 0.3 + 0.7 is 2.4 + 5.6 -> 2 + 6; 5 over four intervals of which two
+  // are slivers -> one each, the rest by length.
+  auto counts = [](const std::vector<tmesh::Block>& blocks, std::size_t d) {
+    std::map<std::pair<long long, long long>, int> at;  // core interval along d -> elements
+    for (const auto& b : blocks) {
+      if (b.pillow) continue;
+      const double lo = std::min(b.corners[0][d], b.corners[7][d]), hi = std::max(b.corners[0][d], b.corners[7][d]);
+      const auto [it, fresh] = at.emplace(std::pair{std::llround(lo * 1e9), std::llround(hi * 1e9)}, b.elements[d]);
+      EXPECT_TRUE(fresh || it->second == b.elements[d]);
+    }
+    std::vector<std::pair<double, int>> out;  // (length, elements) in order
+    for (const auto& [k, n] : at) out.emplace_back((k.second - k.first) * 1e-9, n);
+    return out;
+  };
+  const auto two = counts(tmesh::cube_blocks({0, 0, 0, 0, 0, 0}, {8, 8, 8}, 0, Cuts{{{0.3}, {}, {}}}), 0);
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_EQ(two[0].second, 2);
+  EXPECT_EQ(two[1].second, 6);
+  for (const auto& boundary : kBoundaries)
+    for (const auto& elements : kElements)
+      for (int layers = 0; layers <= 2; ++layers)
+        for (std::size_t c = 0; c < kCuts.size(); ++c) {
+          SCOPED_TRACE(describe(boundary, elements, layers, c));
+          const auto blocks = tmesh::cube_blocks(boundary, elements, layers, kCuts[c]);
+          for (std::size_t d = 0; d < 3; ++d) {
+            const auto iv = counts(blocks, d);
+            ASSERT_EQ(iv.size(), kCuts[c][d].size() + 1);
+            double length = 0;
+            int total = 0;
+            for (const auto& [len, n] : iv) length += len, total += n;
+            EXPECT_EQ(total, std::max(elements[d], static_cast<int>(iv.size())));
+            bool every_share_one = true;
+            for (const auto& [len, n] : iv) every_share_one = every_share_one && elements[d] * len / length >= 1;
+            for (const auto& [len, n] : iv) {
+              EXPECT_GE(n, 1);
+              if (every_share_one) {
+                EXPECT_LE(std::abs(n - elements[d] * len / length), 1.0);
+              }
+            }
+            // Slabs that span d follow the core: their counts along d are among the core's.
+            for (const auto& b : blocks)
+              if (b.pillow && !b.boundary[2 * d] && !b.boundary[2 * d + 1]) {
+                EXPECT_TRUE(std::any_of(iv.begin(), iv.end(), [&](const auto& x) { return x.second == b.elements[d]; }));
+              }
+          }
+        }
+}
+
+TEST(PillowCuts, NoCutsGiveTheUncutBlocksAndBadCutsAreRefused) {
+  for (const auto& boundary : kBoundaries)
+    for (int layers = 0; layers <= 2; ++layers) {
+      const auto plain = tmesh::cube_blocks(boundary, {3, 5, 4}, layers);
+      const auto cut = tmesh::cube_blocks(boundary, {3, 5, 4}, layers, Cuts{});
+      ASSERT_EQ(plain.size(), cut.size());
+      for (std::size_t i = 0; i < plain.size(); ++i) {
+        EXPECT_EQ(plain[i].corners, cut[i].corners);
+        EXPECT_EQ(plain[i].elements, cut[i].elements);
+        EXPECT_EQ(plain[i].boundary, cut[i].boundary);
+        EXPECT_EQ(plain[i].pillow, cut[i].pillow);
+      }
+    }
+  for (const std::vector<double>& bad : std::vector<std::vector<double>>{
+           {0.0}, {1.0}, {-0.2}, {1.5}, {0.5, 0.5}, {0.6, 0.4}, {std::nan("")}, {0.5, 0.5 + 1e-9}, {1e-8}, {1 - 1e-8}})
+    for (std::size_t d = 0; d < 3; ++d) {
+      Cuts cuts;
+      cuts[d] = bad;
+      EXPECT_THROW(tmesh::cube_blocks({1, 1, 1, 1, 1, 1}, {8, 8, 8}, 1, cuts), core::ConfigError) << bad[0] << " along axis " << d;
+      EXPECT_THROW(tmesh::cube_blocks({0, 0, 0, 0, 0, 0}, {8, 8, 8}, 0, cuts), core::ConfigError);
+    }
+}
