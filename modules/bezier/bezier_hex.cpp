@@ -5,6 +5,7 @@
 #include <string>
 
 #include "bezier/bernstein.h"
+#include "bezier/hex_point.h"
 #include "core/errors.h"
 
 namespace volts::bezier {
@@ -145,12 +146,22 @@ double volume(const BezierHex& hex, int gauss_points) {
   check(hex);
   const std::vector<double> g = gauss_legendre_points(gauss_points);
   const std::vector<double> gw = gauss_legendre_weights(gauss_points);
+  // The Gauss points' bases once per thread, degrees and rule (extract sums every element).
+  thread_local std::vector<HexPoint> points;
+  if (points.empty() || points[0].uvw() != Eigen::Vector3d(g[0], g[0], g[0]) || points.size() != g.size() * g.size() * g.size() ||
+      !points[0].has_degree(hex.degree)) {
+    points.clear();
+    for (int k = 0; k < gauss_points; ++k)
+      for (int j = 0; j < gauss_points; ++j)
+        for (int i = 0; i < gauss_points; ++i) points.emplace_back(hex.degree, Eigen::Vector3d(g[i], g[j], g[k]));
+  }
   double vol = 0.0;
+  std::size_t n = 0;
   for (int k = 0; k < gauss_points; ++k)
     for (int j = 0; j < gauss_points; ++j)
       for (int i = 0; i < gauss_points; ++i) {
         Eigen::Matrix3d J;
-        evaluate(hex, Eigen::Vector3d(g[i], g[j], g[k]), &J);
+        points[n++].evaluate(hex, &J);
         vol += gw[i] * gw[j] * gw[k] * J.determinant();
       }
   return vol;

@@ -12,6 +12,7 @@
 #include "bezier/vtk_bezier.h"
 #include "core/errors.h"
 #include "core/log.h"
+#include "core/parallel.h"
 #include "quality/quality.h"
 
 namespace volts::extract {
@@ -108,11 +109,16 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
   for (int id = 0; id < count; ++id)
     if (owner[id] < 0) throw core::InvalidInputError("extract: function id " + std::to_string(id) + " belongs to no control point");
 
+  // 1-D operators per block (canonical rows: serial, the first row seen wins), then the block
+  // and spans of every element.
   RowCanon canon;
+  std::vector<std::array<std::vector<Eigen::MatrixXd>, 3>> block_ops;
+  std::vector<std::array<std::vector<int>, 3>> block_spans;
+  std::vector<std::pair<std::size_t, std::array<std::size_t, 3>>> spans_of;
   std::size_t e = 0;
   for (std::size_t b = 0; b < ts.size(); ++b) {
     const tmesh::TMesh& t = ts[b];
-    const int p = t.degree, q = p + 1;
+    const int p = t.degree;
     std::array<std::vector<int>, 3> spans;
     std::array<std::vector<Eigen::MatrixXd>, 3> ops;
     for (int d = 0; d < 3; ++d) {
@@ -124,62 +130,91 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
       for (std::size_t eb = 0; eb < spans[1].size(); ++eb)
         for (std::size_t ea = 0; ea < spans[0].size(); ++ea, ++e) {
           if (e >= hexes.size()) throw core::NumericalError("extract: more elements in the blocks than Bézier hexes");
-          const std::string name = "extract: element " + std::to_string(e) + " (block " + std::to_string(b) + ", span " +
-                                   std::to_string(ea) + "," + std::to_string(eb) + "," + std::to_string(ec) + ")";
-          // Global ids of the element's (p+1)^3 local functions, index a + q(b + q c).
-          std::vector<int> local(q * q * q);
-          for (int c = 0; c < q; ++c)
-            for (int bb = 0; bb < q; ++bb)
-              for (int a = 0; a < q; ++a) {
-                const int i = spans[0][ea] - p + a, j = spans[1][eb] - p + bb, k = spans[2][ec] - p + c;
-                local[a + q * (bb + q * c)] = ids[b][i + t.size[0] * (j + t.size[1] * k)];
-              }
-          ExtractionElement el;
-          el.functions = local;
-          std::sort(el.functions.begin(), el.functions.end());
-          el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
-          std::vector<Eigen::Triplet<double>> triplets;
-          const Eigen::MatrixXd& Cu = ops[0][ea];
-          const Eigen::MatrixXd& Cv = ops[1][eb];
-          const Eigen::MatrixXd& Cw = ops[2][ec];
-          for (int l = 0; l < q * q * q; ++l) {
-            const int row = static_cast<int>(std::lower_bound(el.functions.begin(), el.functions.end(), local[l]) - el.functions.begin());
-            const int a = l % q, bb = (l / q) % q, c = l / (q * q);
-            for (int col = 0; col < q * q * q; ++col) {
-              const double v = Cu(a, col % q) * Cv(bb, (col / q) % q) * Cw(c, col / (q * q));
-              if (v != 0.0) triplets.emplace_back(row, col, v);
-            }
-          }
-          el.op.resize(static_cast<int>(el.functions.size()), q * q * q);
-          el.op.setFromTriplets(triplets.begin(), triplets.end());  // sums a function repeated in the element
-          // Partition of unity and reproduction of the extracted hex.
-          const bezier::BezierHex& h = hexes[e];
-          if (h.num_points() != q * q * q) throw core::NumericalError(name + ": its Bézier hex has another degree");
-          Eigen::RowVectorXd sums = Eigen::RowVectorXd::Zero(q * q * q);
-          Eigen::MatrixXd bez = Eigen::MatrixXd::Zero(q * q * q, 3);
-          for (int r = 0; r < el.op.outerSize(); ++r)
-            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(el.op, r); it; ++it) {
-              sums[it.col()] += it.value();
-              bez.row(it.col()) += it.value() * g.points[el.functions[r]].transpose();
-            }
-          const double pou = (sums.array() - 1.0).abs().maxCoeff();
-          g.partition_of_unity_error = std::max(g.partition_of_unity_error, pou);
-          if (!(pou <= 1e-12)) {
-            char msg[64];
-            std::snprintf(msg, sizeof msg, "%.1e, allowed 1e-12)", pou);
-            throw core::NumericalError(name + ": its extraction operator is no partition of unity (a column sum is off 1 by " + msg);
-          }
-          double dev = 0;
-          for (int i = 0; i < q * q * q; ++i) dev = std::max(dev, (bez.row(i).transpose() - h.points[i]).norm());
-          if (!(dev <= tol)) {
-            char msg[96];
-            std::snprintf(msg, sizeof msg, " by %.1e (%.1e of the bounding-box diagonal; allowed %.1e)", dev, dev / std::max(diagonal, 1e-300), tol);
-            throw core::NumericalError(name + ": Cᵀ·P misses its Bézier control points" + msg);
-          }
-          g.elements.push_back(std::move(el));
+          spans_of.push_back({b, {ea, eb, ec}});
         }
+    block_ops.push_back(std::move(ops));
+    block_spans.push_back(std::move(spans));
   }
   if (e != hexes.size()) throw core::NumericalError("extract: fewer elements in the blocks than Bézier hexes");
+  // Every element's operator and checks in parallel; the first failing element (in element
+  // order) is reported, as a serial loop would.
+  std::vector<ExtractionElement> elements(hexes.size());
+  std::vector<double> pous(hexes.size(), 0.0);
+  std::vector<std::string> errors(hexes.size());
+  core::parallel_for(hexes.size(), [&](std::size_t e) {
+    const auto& [b, span] = spans_of[e];
+    const auto& [ea, eb, ec] = span;
+    const tmesh::TMesh& t = ts[b];
+    const int p = t.degree, q = p + 1;
+    const auto& spans = block_spans[b];
+    const auto& ops = block_ops[b];
+    const auto name = [&] {
+      return "extract: element " + std::to_string(e) + " (block " + std::to_string(b) + ", span " + std::to_string(ea) + "," +
+             std::to_string(eb) + "," + std::to_string(ec) + ")";
+    };
+    // Global ids of the element's (p+1)^3 local functions, index a + q(b + q c).
+    std::vector<int> local(q * q * q);
+    for (int c = 0; c < q; ++c)
+      for (int bb = 0; bb < q; ++bb)
+        for (int a = 0; a < q; ++a) {
+          const int i = spans[0][ea] - p + a, j = spans[1][eb] - p + bb, k = spans[2][ec] - p + c;
+          local[a + q * (bb + q * c)] = ids[b][i + t.size[0] * (j + t.size[1] * k)];
+        }
+    ExtractionElement el;
+    el.functions = local;
+    std::sort(el.functions.begin(), el.functions.end());
+    el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
+    std::vector<Eigen::Triplet<double>> triplets;
+    const Eigen::MatrixXd& Cu = ops[0][ea];
+    const Eigen::MatrixXd& Cv = ops[1][eb];
+    const Eigen::MatrixXd& Cw = ops[2][ec];
+    for (int l = 0; l < q * q * q; ++l) {
+      const int row = static_cast<int>(std::lower_bound(el.functions.begin(), el.functions.end(), local[l]) - el.functions.begin());
+      const int a = l % q, bb = (l / q) % q, c = l / (q * q);
+      for (int col = 0; col < q * q * q; ++col) {
+        const double v = Cu(a, col % q) * Cv(bb, (col / q) % q) * Cw(c, col / (q * q));
+        if (v != 0.0) triplets.emplace_back(row, col, v);
+      }
+    }
+    el.op.resize(static_cast<int>(el.functions.size()), q * q * q);
+    el.op.setFromTriplets(triplets.begin(), triplets.end());  // sums a function repeated in the element
+    // Partition of unity and reproduction of the extracted hex.
+    const bezier::BezierHex& h = hexes[e];
+    if (h.num_points() != q * q * q) {
+      errors[e] = name() + ": its Bézier hex has another degree";
+      return;
+    }
+    Eigen::RowVectorXd sums = Eigen::RowVectorXd::Zero(q * q * q);
+    Eigen::MatrixXd bez = Eigen::MatrixXd::Zero(q * q * q, 3);
+    for (int r = 0; r < el.op.outerSize(); ++r)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(el.op, r); it; ++it) {
+        sums[it.col()] += it.value();
+        bez.row(it.col()) += it.value() * g.points[el.functions[r]].transpose();
+      }
+    const double pou = (sums.array() - 1.0).abs().maxCoeff();
+    pous[e] = pou;
+    if (!(pou <= 1e-12)) {
+      char msg[64];
+      std::snprintf(msg, sizeof msg, "%.1e, allowed 1e-12)", pou);
+      errors[e] = name() + ": its extraction operator is no partition of unity (a column sum is off 1 by " + msg;
+      return;
+    }
+    double dev = 0;
+    for (int i = 0; i < q * q * q; ++i) dev = std::max(dev, (bez.row(i).transpose() - h.points[i]).norm());
+    if (!(dev <= tol)) {
+      char msg[96];
+      std::snprintf(msg, sizeof msg, " by %.1e (%.1e of the bounding-box diagonal; allowed %.1e)", dev, dev / std::max(diagonal, 1e-300), tol);
+      errors[e] = name() + ": Cᵀ·P misses its Bézier control points" + msg;
+      return;
+    }
+    elements[e] = std::move(el);
+  });
+  for (std::size_t e = 0; e < hexes.size(); ++e) {
+    if (!errors[e].empty()) throw core::NumericalError(errors[e]);
+    g.partition_of_unity_error = std::max(g.partition_of_unity_error, pous[e]);
+  }
+  g.elements = std::move(elements);
+
   return g;
 }
 
@@ -236,8 +271,9 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
     // Certified sign of det J (Randrianarivony 2008 §4): the sampled figures above can miss a fold.
     core::LogSection s("certified Jacobian validity");
     r.certified_min_detj_rel = std::numeric_limits<double>::infinity();
-    for (const auto& h : r.hexes) {
-      const bezier::CertifyResult c = bezier::certify(h, params.certify);
+    std::vector<bezier::CertifyResult> cs(r.hexes.size());
+    core::parallel_for(r.hexes.size(), [&](std::size_t e) { cs[e] = bezier::certify(r.hexes[e], params.certify); });
+    for (const bezier::CertifyResult& c : cs) {
       r.status.push_back(static_cast<int>(c.status));
       r.certified_min_detj.push_back(c.min_detj_lower);
       if (c.mean_detj != 0) r.certified_min_detj_rel = std::min(r.certified_min_detj_rel, c.min_detj_lower / std::abs(c.mean_detj));

@@ -9,8 +9,10 @@
 #include <cmath>
 
 #include "bezier/certify.h"
+#include "bezier/hex_point.h"
 #include "bezier/quadrature.h"
 #include "core/errors.h"
+#include "core/parallel.h"
 
 namespace volts::quality {
 
@@ -20,31 +22,46 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<surface::Kernel, Primitive>>;
 
 ScaledJacobian scaled_jacobian(const std::vector<bezier::BezierHex>& hexes, int gauss_points) {
   ScaledJacobian r;
-  r.min_per_element.reserve(hexes.size());
-  r.max_per_element.reserve(hexes.size());
-  for (const auto& h : hexes) {
-    const auto js = bezier::sample_jacobian(h, gauss_points);
-    r.min_per_element.push_back(js.min_scaled);
-    r.max_per_element.push_back(js.max_scaled);
-    r.min = std::min(r.min, js.min_scaled);
-    r.max = std::max(r.max, js.max_scaled);
-  }
+  r.min_per_element.resize(hexes.size());
+  r.max_per_element.resize(hexes.size());
+  core::parallel_for(hexes.size(), [&](std::size_t e) {
+    const auto js = bezier::sample_jacobian(hexes[e], gauss_points);
+    r.min_per_element[e] = js.min_scaled, r.max_per_element[e] = js.max_scaled;
+  });
+  for (std::size_t e = 0; e < hexes.size(); ++e) r.min = std::min(r.min, r.min_per_element[e]), r.max = std::max(r.max, r.max_per_element[e]);
   return r;
 }
 
 double volume_fraction_scaled_jacobian_above(const std::vector<bezier::BezierHex>& hexes, int gauss_points, double threshold) {
   const std::vector<double> g = bezier::gauss_legendre_points(gauss_points), w = bezier::gauss_legendre_weights(gauss_points);
-  double all = 0, above = 0;
-  for (const auto& h : hexes)
-    for (std::size_t k = 0; k < g.size(); ++k)
-      for (std::size_t j = 0; j < g.size(); ++j)
-        for (std::size_t i = 0; i < g.size(); ++i) {
+  // Volume of every point (negative: its scaled Jacobian is not above the threshold), in
+  // parallel; summed in order afterwards, so the sum does not depend on the threads.
+  const std::size_t n = g.size(), per = n * n * n;
+  std::vector<double> dvs(hexes.size() * per);
+  // Bases per Gauss point for the first hex's degrees (bezier::HexPoint: evaluate() bit for bit).
+  std::vector<bezier::HexPoint> points;
+  if (!hexes.empty() && hexes[0].degree[0] >= 1 && hexes[0].degree[1] >= 1 && hexes[0].degree[2] >= 1)
+    for (std::size_t k = 0; k < n; ++k)
+      for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t i = 0; i < n; ++i) points.emplace_back(hexes[0].degree, Eigen::Vector3d(g[i], g[j], g[k]));
+  core::parallel_for(hexes.size(), [&](std::size_t e) {
+    double* out = dvs.data() + e * per;
+    const bool same = !points.empty() && points[0].has_degree(hexes[e].degree);
+    for (std::size_t k = 0; k < n; ++k)
+      for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t i = 0; i < n; ++i) {
           Eigen::Matrix3d J;
-          bezier::evaluate(h, Eigen::Vector3d(g[i], g[j], g[k]), &J);
+          if (same) points[i + n * (j + n * k)].evaluate(hexes[e], &J);
+          else bezier::evaluate(hexes[e], Eigen::Vector3d(g[i], g[j], g[k]), &J);
           const double dv = std::max(J.determinant(), 0.0) * w[i] * w[j] * w[k];
-          all += dv;
-          if (bezier::scaled_jacobian(J) > threshold) above += dv;
+          *out++ = bezier::scaled_jacobian(J) > threshold ? dv : -dv;
         }
+  });
+  double all = 0, above = 0;
+  for (const double dv : dvs) {
+    all += std::abs(dv);
+    if (dv > 0) above += dv;
+  }
   return all > 0 ? above / all : 0;
 }
 
@@ -60,24 +77,47 @@ BoundaryDeviation boundary_deviation(const std::vector<bezier::BezierHex>& hexes
   if (samples < 2) throw core::InvalidInputError("boundary_deviation: samples must be >= 2");
   BoundaryDeviation r;
   Tree tree(CGAL::faces(surface).first, CGAL::faces(surface).second, surface);
+  tree.build();  // now, not lazily in the first (parallel) query
   tree.accelerate_distance_queries();
   const CGAL::Bbox_3 bb = tree.bbox();
   r.diagonal = std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) + CGAL::square(bb.zmax() - bb.zmin()));
   r.per_element.assign(hexes.size(), 0.0);
-  const int m = samples;
-  for (const BoundaryFace& f : faces) {
+  for (const BoundaryFace& f : faces)
     if (f.element < 0 || f.element >= static_cast<int>(hexes.size()) || f.axis < 0 || f.axis > 2 || (f.side != 0 && f.side != 1))
       throw core::InvalidInputError("boundary_deviation: boundary face names no element face");
-    double& dist = r.per_element[f.element];
+  const int m = samples;
+  auto grid_point = [m](int axis, int side, int a, int b) {
+    Eigen::Vector3d uvw;
+    uvw[axis] = side;
+    uvw[(axis + 1) % 3] = double(a) / (m - 1);
+    uvw[(axis + 2) % 3] = double(b) / (m - 1);
+    return uvw;
+  };
+  // Bases of the sample grid of each of the 6 faces, for the first hex's degrees.
+  std::vector<bezier::HexPoint> points;
+  if (!hexes.empty() && hexes[0].degree[0] >= 1 && hexes[0].degree[1] >= 1 && hexes[0].degree[2] >= 1)
+    for (int f = 0; f < 6; ++f)
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) points.emplace_back(hexes[0].degree, grid_point(f / 2, f % 2, a, b));
+  // Distance of every face in parallel (the tree and its KD-tree are built above, queries only
+  // read them), then the maxima in face order.
+  std::vector<double> face_dist(faces.size(), 0.0);
+  core::parallel_for(faces.size(), [&](std::size_t i) {
+    const BoundaryFace& f = faces[i];
+    const bezier::BezierHex& hex = hexes[f.element];
+    const bool same = !points.empty() && points[0].has_degree(hex.degree);
+    double dist = 0;
     for (int a = 0; a < m; ++a)
       for (int b = 0; b < m; ++b) {
-        Eigen::Vector3d uvw;
-        uvw[f.axis] = f.side;
-        uvw[(f.axis + 1) % 3] = double(a) / (m - 1);
-        uvw[(f.axis + 2) % 3] = double(b) / (m - 1);
-        const Eigen::Vector3d x = bezier::evaluate(hexes[f.element], uvw);
+        const Eigen::Vector3d x = same ? points[((2 * f.axis + f.side) * m + a) * m + b].evaluate(hex)
+                                       : bezier::evaluate(hex, grid_point(f.axis, f.side, a, b));
         dist = std::max(dist, std::sqrt(tree.squared_distance(surface::Point(x[0], x[1], x[2]))));
       }
+    face_dist[i] = dist;
+  }, 4);
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    double& dist = r.per_element[faces[i].element];
+    dist = std::max(dist, face_dist[i]);
     r.max = std::max(r.max, dist);
   }
   r.rel = r.max / r.diagonal;
@@ -86,7 +126,9 @@ BoundaryDeviation boundary_deviation(const std::vector<bezier::BezierHex>& hexes
 
 Volume volume(const std::vector<bezier::BezierHex>& hexes, const Mesh& surface, int gauss_points) {
   Volume v;
-  for (const auto& h : hexes) v.elements += bezier::volume(h, gauss_points);
+  std::vector<double> per(hexes.size());
+  core::parallel_for(hexes.size(), [&](std::size_t e) { per[e] = bezier::volume(hexes[e], gauss_points); });
+  for (const double x : per) v.elements += x;  // in element order: independent of the threads
   v.surface = CGAL::Polygon_mesh_processing::volume(surface);
   v.rel_error = std::abs(v.elements - v.surface) / std::abs(v.surface);
   return v;

@@ -112,5 +112,40 @@ TEST(Quality, ValidityCountsAddUp) {
   EXPECT_NEAR(sj.max, -1.0, 1e-12);
 }
 
+TEST(Quality, FiguresDoNotDependOnTheThreadCount) {
+  // 300 cubic hexes tiling the box in slabs, interior points jiggled: every figure is computed
+  // per element in parallel and reduced in element order, so it must be bit-identical.
+  const surface::Mesh s = box_surface();
+  std::vector<bezier::BezierHex> hexes;
+  std::vector<BoundaryFace> faces;
+  for (int e = 0; e < 300; ++e) {
+    const double x0 = -1 + 2.0 * e / 300, x1 = -1 + 2.0 * (e + 1) / 300;
+    bezier::BezierHex h = box_hex({x0, -0.75, -0.5}, {x1, 0.75, 0.5});
+    h = bezier::elevate_degree(h, {3, 3, 3});
+    for (int n = 0; n < h.num_points(); ++n) {
+      const auto [i, j, k] = h.ijk(n);
+      if (j > 0 && j < 3 && k > 0 && k < 3) h.points[n].y() += 0.05 * std::sin(7.0 * e + n);
+      else h.points[n].z() += 0.01 * std::cos(3.0 * e + n) * (k == 0 || k == 3 ? 0 : 1);
+    }
+    hexes.push_back(h);
+    faces.push_back({e, 1, 0}), faces.push_back({e, 2, 1});
+  }
+  auto figures = [&](const char* threads) {
+    setenv("VOLTS_THREADS", threads, 1);
+    const ScaledJacobian sj = scaled_jacobian(hexes, 4);
+    const BoundaryDeviation d = boundary_deviation(hexes, faces, s, 5);
+    const Volume v = volume(hexes, s, 5);
+    std::vector<double> all = sj.min_per_element;
+    all.insert(all.end(), sj.max_per_element.begin(), sj.max_per_element.end());
+    all.insert(all.end(), d.per_element.begin(), d.per_element.end());
+    all.insert(all.end(), {sj.min, sj.max, d.max, d.rel, v.elements, v.rel_error, volume_fraction_scaled_jacobian_above(hexes, 4, 0.9)});
+    unsetenv("VOLTS_THREADS");
+    return all;
+  };
+  const std::vector<double> one = figures("1");
+  EXPECT_EQ(figures("2"), one);
+  EXPECT_EQ(figures("3"), one);
+}
+
 }  // namespace
 }  // namespace volts::quality
