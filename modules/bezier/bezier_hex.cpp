@@ -59,12 +59,6 @@ Eigen::Vector3d evaluate(const BezierHex& hex, const Eigen::Vector3d& uvw, Eigen
   return x;
 }
 
-double scaled_jacobian(const Eigen::Matrix3d& J) {
-  const double n0 = J.col(0).norm(), n1 = J.col(1).norm(), n2 = J.col(2).norm();
-  if (n0 == 0.0 || n1 == 0.0 || n2 == 0.0) return 0.0;
-  return std::clamp(J.determinant() / (n0 * n1 * n2), -1.0, 1.0);  // |det| <= product by Hadamard
-}
-
 namespace {
 
 // Jacobian of a polynomial hex at (u,v,w) from basis values precomputed per direction, summed one
@@ -90,14 +84,22 @@ Eigen::Matrix3d polynomial_jacobian(const BezierHex& hex, const Eigen::VectorXd&
   return J;
 }
 
+// Bernstein values and derivatives at 0, 1 and the Gauss points, per direction.
+struct SampleBases {
+  int gauss_points = 0;
+  std::array<int, 3> degree{};
+  std::array<std::vector<Eigen::VectorXd>, 3> B, dB;
+};
+
 }  // namespace
 
 std::vector<Eigen::Matrix3d> jacobian_samples(const BezierHex& hex, int gauss_points) {
   check(hex);
-  std::vector<double> g = gauss_legendre_points(gauss_points);
   std::vector<Eigen::Matrix3d> out;
-  out.reserve(8 + g.size() * g.size() * g.size());
+  const std::size_t n = static_cast<std::size_t>(std::max(gauss_points, 0));
+  out.reserve(8 + n * n * n);
   if (hex.is_rational()) {
+    const std::vector<double> g = gauss_legendre_points(gauss_points);
     auto add = [&](const Eigen::Vector3d& uvw) {
       Eigen::Matrix3d J;
       evaluate(hex, uvw, &J);
@@ -109,22 +111,30 @@ std::vector<Eigen::Matrix3d> jacobian_samples(const BezierHex& hex, int gauss_po
         for (double u : g) add(Eigen::Vector3d(u, v, w));
     return out;
   }
-  // Coordinates per direction: 0, 1, then the Gauss points; bases computed once.
-  g.insert(g.begin(), {0.0, 1.0});
-  std::array<std::vector<Eigen::VectorXd>, 3> B, dB;
-  for (int d = 0; d < 3; ++d)
-    for (const double t : g) {
-      Eigen::VectorXd db;
-      B[d].push_back(bernstein_basis(hex.degree[d], t, &db));
-      dB[d].push_back(db);
-    }
+  // Coordinates per direction: 0, 1, then the Gauss points; bases computed once per thread and
+  // degrees (tmesh optimization calls this for every element a node supports).
+  thread_local SampleBases cache;
+  if (cache.gauss_points != gauss_points || cache.degree != hex.degree) {
+    std::vector<double> g = gauss_legendre_points(gauss_points);  // throws for n < 1
+    g.insert(g.begin(), {0.0, 1.0});
+    cache = SampleBases{gauss_points, hex.degree, {}, {}};
+    for (int d = 0; d < 3; ++d)
+      for (const double t : g) {
+        Eigen::VectorXd db;
+        cache.B[d].push_back(bernstein_basis(hex.degree[d], t, &db));
+        cache.dB[d].push_back(db);
+      }
+  }
+  const auto& B = cache.B;
+  const auto& dB = cache.dB;
+  const std::size_t ng = B[0].size();
   auto add = [&](std::size_t a, std::size_t b, std::size_t c) {
     out.push_back(polynomial_jacobian(hex, B[0][a], dB[0][a], B[1][b], dB[1][b], B[2][c], dB[2][c]));
   };
   for (std::size_t c = 0; c < 8; ++c) add(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-  for (std::size_t w = 2; w < g.size(); ++w)
-    for (std::size_t v = 2; v < g.size(); ++v)
-      for (std::size_t u = 2; u < g.size(); ++u) add(u, v, w);
+  for (std::size_t w = 2; w < ng; ++w)
+    for (std::size_t v = 2; v < ng; ++v)
+      for (std::size_t u = 2; u < ng; ++u) add(u, v, w);
   return out;
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <limits>
 #include <vector>
@@ -40,8 +41,13 @@ void check(const BezierHex& hex);
 /// (quotient rule on the homogeneous map, so exact for rational hexes).
 Eigen::Vector3d evaluate(const BezierHex& hex, const Eigen::Vector3d& uvw, Eigen::Matrix3d* jacobian = nullptr);
 
-/// det(J) / (|J0| |J1| |J2|), in [-1,1]; 0 if a column vanishes (degenerate direction).
-double scaled_jacobian(const Eigen::Matrix3d& J);
+/// det(J) / (|J0| |J1| |J2|), in [-1,1]; 0 if a column vanishes (degenerate direction). Inline:
+/// tmesh optimization evaluates it millions of times.
+inline double scaled_jacobian(const Eigen::Matrix3d& J) {
+  const double n0 = J.col(0).norm(), n1 = J.col(1).norm(), n2 = J.col(2).norm();
+  if (n0 == 0.0 || n1 == 0.0 || n2 == 0.0) return 0.0;
+  return std::clamp(J.determinant() / (n0 * n1 * n2), -1.0, 1.0);  // |det| <= product by Hadamard
+}
 
 struct JacobianSample {
   double min_scaled = 1.0;
