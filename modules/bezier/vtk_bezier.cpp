@@ -657,6 +657,9 @@ void write_bezier_vtu(const std::string& path, const std::vector<BezierHex>& hex
     writer->SetInputData(grid);
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff();  // raw binary
+    // LZ4: zlib (VTK's default) took 0.2-0.5 s for the torus' 3,072 cubic elements, LZ4 0.01 s for
+    // a file 1.4 times larger (4.8 MB); VTK >= 8 and ParaView read both.
+    writer->SetCompressorTypeToLZ4();
     writer->SetHeaderTypeToUInt64();  // arrays over 4 GiB
     if (writer->Write() != 1 || writer->GetErrorCode() != vtkErrorCode::NoError)
       throw core::IoError(path + ": VTK writer failed: " + describe(writer->GetErrorCode()));

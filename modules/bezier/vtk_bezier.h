@@ -2,7 +2,7 @@
 // VTK_BEZIER_HEXAHEDRON (79) cells with the HigherOrderDegrees and RationalWeights arrays; and
 // import of Bézier/Lagrange hexahedra and tetrahedra from any .vtu (for volts-check).
 //
-// Written with VTK's own vtkXMLUnstructuredGridWriter (VTK >= 9.1), appended raw binary, zlib
+// Written with VTK's own vtkXMLUnstructuredGridWriter (VTK >= 9.1), appended raw binary, LZ4
 // compressed, Float64 points. That writer already stamps the file version="2.2" and declares both
 // arrays active (<PointData RationalWeights=...>, <CellData HigherOrderDegrees=...>), so no
 // post-processing: VTK >= 9 readers apply their VTK-8-to-9 renumbering of the vertical edges of
