@@ -390,7 +390,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     double worst = 0;
     int invalid = 0;
     summary(&worst, &invalid);
-    core::log("optimization sweep " + std::to_string(sweep + 1) + ": " + std::to_string(moved) + " nodes moved, worst scaled Jacobian " +
+    core::log("optimization sweep " + std::to_string(sweep + 1) + ": " + std::to_string(moved) + " of " + std::to_string(std::min(tried, params.max_nodes_per_sweep)) +
+              " nodes searched moved, worst scaled Jacobian " +
               std::to_string(worst) + ", " + std::to_string(invalid) + " elements not certified valid");
     if (tried > params.max_nodes_per_sweep) {
       ++r.sweeps_cut_at_node_bound;
