@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "bezier/bernstein.h"
@@ -157,23 +158,23 @@ double volume(const BezierHex& hex, int gauss_points) {
   const std::vector<double> g = gauss_legendre_points(gauss_points);
   const std::vector<double> gw = gauss_legendre_weights(gauss_points);
   // The Gauss points' bases once per thread, degrees and rule (extract sums every element).
-  thread_local std::vector<HexPoint> points;
-  if (points.empty() || points[0].uvw() != Eigen::Vector3d(g[0], g[0], g[0]) || points.size() != g.size() * g.size() * g.size() ||
-      !points[0].has_degree(hex.degree)) {
-    points.clear();
+  thread_local std::unique_ptr<HexPoints> points;
+  thread_local std::vector<double> rule;
+  if (!points || rule != g || !points->has_degree(hex.degree)) {
+    std::vector<Eigen::Vector3d> uvw;
     for (int k = 0; k < gauss_points; ++k)
       for (int j = 0; j < gauss_points; ++j)
-        for (int i = 0; i < gauss_points; ++i) points.emplace_back(hex.degree, Eigen::Vector3d(g[i], g[j], g[k]));
+        for (int i = 0; i < gauss_points; ++i) uvw.emplace_back(g[i], g[j], g[k]);
+    points = std::make_unique<HexPoints>(hex.degree, uvw);
+    rule = g;
   }
+  thread_local std::vector<Eigen::Matrix3d> J;
+  points->evaluate(hex, nullptr, &J);
   double vol = 0.0;
   std::size_t n = 0;
   for (int k = 0; k < gauss_points; ++k)
     for (int j = 0; j < gauss_points; ++j)
-      for (int i = 0; i < gauss_points; ++i) {
-        Eigen::Matrix3d J;
-        points[n++].evaluate(hex, &J);
-        vol += gw[i] * gw[j] * gw[k] * J.determinant();
-      }
+      for (int i = 0; i < gauss_points; ++i) vol += gw[i] * gw[j] * gw[k] * J[n++].determinant();
   return vol;
 }
 

@@ -55,4 +55,75 @@ Eigen::Vector3d HexPoint::evaluate(const BezierHex& hex, Eigen::Matrix3d* jacobi
   return x;
 }
 
+HexPoints::HexPoints(const std::array<int, 3>& degree, const std::vector<Eigen::Vector3d>& uvw) : degree_(degree), uvw_(uvw) {
+  const std::size_t n = uvw.size(), terms = static_cast<std::size_t>((degree[0] + 1) * (degree[1] + 1) * (degree[2] + 1));
+  b_.resize(terms * n);
+  for (auto& d : db_) d.resize(terms * n);
+  for (std::size_t pt = 0; pt < n; ++pt) {
+    const HexPoint one(degree, uvw[pt]);  // checks the degrees
+    for (std::size_t idx = 0; idx < terms; ++idx) {
+      b_[idx * n + pt] = one.b_[idx];
+      for (int d = 0; d < 3; ++d) db_[static_cast<std::size_t>(d)][idx * n + pt] = one.db_[idx][d];
+    }
+  }
+}
+
+void HexPoints::evaluate(const BezierHex& hex, std::vector<Eigen::Vector3d>* x, std::vector<Eigen::Matrix3d>* jacobians) const {
+  check(hex);
+  if (hex.degree != degree_)
+    throw core::InvalidInputError("HexPoints: a hex of degrees " + std::to_string(hex.degree[0]) + "," + std::to_string(hex.degree[1]) + "," +
+                                  std::to_string(hex.degree[2]) + " at points made for " + std::to_string(degree_[0]) + "," +
+                                  std::to_string(degree_[1]) + "," + std::to_string(degree_[2]));
+  const std::size_t n = uvw_.size();
+  if (x) x->resize(n);
+  if (jacobians) jacobians->resize(n);
+  if (hex.is_rational()) {
+    for (std::size_t pt = 0; pt < n; ++pt) {
+      const Eigen::Vector3d y = bezier::evaluate(hex, uvw_[pt], jacobians ? &(*jacobians)[pt] : nullptr);
+      if (x) (*x)[pt] = y;
+    }
+    return;
+  }
+  // HexPoint::evaluate's sums, one array per sum: A (3), W, and with the Jacobian dA (row r,
+  // column c at 4 + 3r + c) and dW (13 + c). Per point the terms are added in index order.
+  const bool with_j = jacobians != nullptr;
+  thread_local std::vector<double> acc;
+  acc.assign((with_j ? 16 : 4) * n, 0.0);
+  double* A0 = acc.data();
+  double *A1 = A0 + n, *A2 = A1 + n, *W = A2 + n;
+  const std::size_t terms = hex.points.size();
+  for (std::size_t idx = 0; idx < terms; ++idx) {
+    const double P0 = hex.points[idx][0], P1 = hex.points[idx][1], P2 = hex.points[idx][2];
+    const double* __restrict b = &b_[idx * n];
+    for (std::size_t pt = 0; pt < n; ++pt) {
+      A0[pt] += b[pt] * P0, A1[pt] += b[pt] * P1, A2[pt] += b[pt] * P2;
+      W[pt] += b[pt];
+    }
+    if (!with_j) continue;
+    const double P[3] = {P0, P1, P2};
+    for (int c = 0; c < 3; ++c) {
+      const double* __restrict db = &db_[static_cast<std::size_t>(c)][idx * n];
+      double* __restrict dW = acc.data() + (13 + c) * n;
+      for (std::size_t pt = 0; pt < n; ++pt) dW[pt] += db[pt];
+      for (int r = 0; r < 3; ++r) {
+        double* __restrict dA = acc.data() + (4 + 3 * r + c) * n;
+        const double Pr = P[r];
+        for (std::size_t pt = 0; pt < n; ++pt) dA[pt] += Pr * db[pt];
+      }
+    }
+  }
+  for (std::size_t pt = 0; pt < n; ++pt) {
+    const Eigen::Vector3d A(A0[pt], A1[pt], A2[pt]);
+    const Eigen::Vector3d y = A / W[pt];
+    if (x) (*x)[pt] = y;
+    if (!with_j) continue;
+    Eigen::Matrix3d dA;
+    Eigen::RowVector3d dW;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) dA(r, c) = acc[(4 + 3 * r + c) * n + pt];
+    for (int c = 0; c < 3; ++c) dW[c] = acc[(13 + c) * n + pt];
+    (*jacobians)[pt] = (dA - y * dW) / W[pt];  // quotient rule
+  }
+}
+
 }  // namespace volts::bezier

@@ -26,10 +26,34 @@ class HexPoint {
   bool has_degree(const std::array<int, 3>& degree) const { return degree == degree_; }
 
  private:
+  friend class HexPoints;
   std::array<int, 3> degree_;
   Eigen::Vector3d uvw_;
   std::vector<double> b_;               // B_i(u) B_j(v) B_k(w) per control point, in index order
   std::vector<Eigen::RowVector3d> db_;  // its partial derivatives d/du, d/dv, d/dw
+};
+
+/// Several parameter points at once: the same sums as HexPoint (so evaluate()'s, bit for bit),
+/// each point's in its own order, all points in one pass over the control points so that the
+/// compiler vectorizes across points (extract's volume and Gauss-point figures).
+class HexPoints {
+ public:
+  /// Each degree >= 1, else core::InvalidInputError.
+  HexPoints(const std::array<int, 3>& degree, const std::vector<Eigen::Vector3d>& uvw);
+
+  /// x (if given) and the Jacobians (if given) at every point, in the order of the constructor's
+  /// uvw. Throws core::InvalidInputError for a malformed hex or other degrees. Rational hexes are
+  /// passed on to evaluate().
+  void evaluate(const BezierHex& hex, std::vector<Eigen::Vector3d>* x, std::vector<Eigen::Matrix3d>* jacobians) const;
+
+  bool has_degree(const std::array<int, 3>& degree) const { return degree == degree_; }
+  std::size_t size() const { return uvw_.size(); }
+
+ private:
+  std::array<int, 3> degree_;
+  std::vector<Eigen::Vector3d> uvw_;
+  std::vector<double> b_;                 // b_[idx * size() + point]: HexPoint's products
+  std::array<std::vector<double>, 3> db_;  // their derivatives, same layout
 };
 
 }  // namespace volts::bezier

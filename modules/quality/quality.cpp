@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "bezier/certify.h"
 #include "bezier/hex_point.h"
@@ -38,20 +39,25 @@ double volume_fraction_scaled_jacobian_above(const std::vector<bezier::BezierHex
   // parallel; summed in order afterwards, so the sum does not depend on the threads.
   const std::size_t n = g.size(), per = n * n * n;
   std::vector<double> dvs(hexes.size() * per);
-  // Bases per Gauss point for the first hex's degrees (bezier::HexPoint: evaluate() bit for bit).
-  std::vector<bezier::HexPoint> points;
-  if (!hexes.empty() && hexes[0].degree[0] >= 1 && hexes[0].degree[1] >= 1 && hexes[0].degree[2] >= 1)
+  // Bases of the Gauss points for the first hex's degrees (bezier::HexPoints: evaluate() bit for bit).
+  std::unique_ptr<bezier::HexPoints> points;
+  if (!hexes.empty() && hexes[0].degree[0] >= 1 && hexes[0].degree[1] >= 1 && hexes[0].degree[2] >= 1) {
+    std::vector<Eigen::Vector3d> uvw;
     for (std::size_t k = 0; k < n; ++k)
       for (std::size_t j = 0; j < n; ++j)
-        for (std::size_t i = 0; i < n; ++i) points.emplace_back(hexes[0].degree, Eigen::Vector3d(g[i], g[j], g[k]));
+        for (std::size_t i = 0; i < n; ++i) uvw.emplace_back(g[i], g[j], g[k]);
+    points = std::make_unique<bezier::HexPoints>(hexes[0].degree, uvw);
+  }
   core::parallel_for(hexes.size(), [&](std::size_t e) {
     double* out = dvs.data() + e * per;
-    const bool same = !points.empty() && points[0].has_degree(hexes[e].degree);
+    std::vector<Eigen::Matrix3d> Js;
+    const bool same = points && points->has_degree(hexes[e].degree);
+    if (same) points->evaluate(hexes[e], nullptr, &Js);
     for (std::size_t k = 0; k < n; ++k)
       for (std::size_t j = 0; j < n; ++j)
         for (std::size_t i = 0; i < n; ++i) {
           Eigen::Matrix3d J;
-          if (same) points[i + n * (j + n * k)].evaluate(hexes[e], &J);
+          if (same) J = Js[i + n * (j + n * k)];
           else bezier::evaluate(hexes[e], Eigen::Vector3d(g[i], g[j], g[k]), &J);
           const double dv = std::max(J.determinant(), 0.0) * w[i] * w[j] * w[k];
           *out++ = bezier::scaled_jacobian(J) > threshold ? dv : -dv;
@@ -93,24 +99,28 @@ BoundaryDeviation boundary_deviation(const std::vector<bezier::BezierHex>& hexes
     uvw[(axis + 2) % 3] = double(b) / (m - 1);
     return uvw;
   };
-  // Bases of the sample grid of each of the 6 faces, for the first hex's degrees.
-  std::vector<bezier::HexPoint> points;
+  // Bases of the sample grid of each of the 6 faces (axis, side), for the first hex's degrees.
+  std::vector<bezier::HexPoints> grids;
   if (!hexes.empty() && hexes[0].degree[0] >= 1 && hexes[0].degree[1] >= 1 && hexes[0].degree[2] >= 1)
-    for (int f = 0; f < 6; ++f)
+    for (int f = 0; f < 6; ++f) {
+      std::vector<Eigen::Vector3d> uvw;
       for (int a = 0; a < m; ++a)
-        for (int b = 0; b < m; ++b) points.emplace_back(hexes[0].degree, grid_point(f / 2, f % 2, a, b));
+        for (int b = 0; b < m; ++b) uvw.push_back(grid_point(f / 2, f % 2, a, b));
+      grids.emplace_back(hexes[0].degree, uvw);
+    }
   // Distance of every face in parallel (the tree and its KD-tree are built above, queries only
   // read them), then the maxima in face order.
   std::vector<double> face_dist(faces.size(), 0.0);
   core::parallel_for(faces.size(), [&](std::size_t i) {
     const BoundaryFace& f = faces[i];
     const bezier::BezierHex& hex = hexes[f.element];
-    const bool same = !points.empty() && points[0].has_degree(hex.degree);
+    std::vector<Eigen::Vector3d> xs;
+    const bool same = !grids.empty() && grids[0].has_degree(hex.degree);
+    if (same) grids[static_cast<std::size_t>(2 * f.axis + f.side)].evaluate(hex, &xs, nullptr);
     double dist = 0;
     for (int a = 0; a < m; ++a)
       for (int b = 0; b < m; ++b) {
-        const Eigen::Vector3d x = same ? points[((2 * f.axis + f.side) * m + a) * m + b].evaluate(hex)
-                                       : bezier::evaluate(hex, grid_point(f.axis, f.side, a, b));
+        const Eigen::Vector3d x = same ? xs[static_cast<std::size_t>(a * m + b)] : bezier::evaluate(hex, grid_point(f.axis, f.side, a, b));
         dist = std::max(dist, std::sqrt(tree.squared_distance(surface::Point(x[0], x[1], x[2]))));
       }
     face_dist[i] = dist;
