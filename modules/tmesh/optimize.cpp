@@ -9,6 +9,7 @@
 #include <set>
 #include <string>
 
+#include "bezier/bernstein.h"
 #include "bezier/bezier_hex.h"
 #include "bezier/bspline.h"
 #include "bezier/certify.h"
@@ -114,6 +115,33 @@ class Spline {
     return h;
   }
 
+  // The x coordinates of hex(e)'s points, with its arithmetic (Vector3d sums are per coordinate).
+  std::vector<double> hex_x(std::size_t e) const {
+    const Element& el = elements_[e];
+    const TMesh& t = blocks_[static_cast<std::size_t>(el.block)];
+    const auto& C = ops_[static_cast<std::size_t>(el.block)];
+    const int n = t.degree + 1;
+    std::vector<double> P(static_cast<std::size_t>(n * n * n)), Q(P.size());
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          P[static_cast<std::size_t>(i + n * (j + n * k))] =
+              t.control_points[static_cast<std::size_t>((el.first[0] + i) + t.size[0] * ((el.first[1] + j) + t.size[1] * (el.first[2] + k)))][0];
+    auto apply = [&](const Eigen::MatrixXd& M, int stride, const std::vector<double>& in, std::vector<double>& out) {
+      for (std::size_t idx = 0; idx < in.size(); ++idx) {
+        const int along = (static_cast<int>(idx) / stride) % n;
+        const std::size_t base = idx - static_cast<std::size_t>(along * stride);
+        double s = 0;
+        for (int a = 0; a < n; ++a) s += M(a, along) * in[base + static_cast<std::size_t>(a * stride)];
+        out[idx] = s;
+      }
+    };
+    apply(C[0][static_cast<std::size_t>(el.e[0])], 1, P, Q);
+    apply(C[1][static_cast<std::size_t>(el.e[1])], n, Q, P);
+    apply(C[2][static_cast<std::size_t>(el.e[2])], n * n, P, Q);
+    return Q;
+  }
+
   const std::vector<int>& elements_of(int id) const { return node_elements_[static_cast<std::size_t>(id)]; }
   const std::vector<int>& points_of(std::size_t e) const { return element_points_[e]; }
   int id_of(int block, int local) const { return point_id_[static_cast<std::size_t>(block)][static_cast<std::size_t>(local)]; }
@@ -166,6 +194,50 @@ class Spline {
   std::vector<std::vector<std::pair<int, int>>> occurrences_;  // per id: (block, local index)
   std::vector<std::vector<int>> point_id_;                      // per block and local index: id
   std::vector<std::vector<int>> node_elements_;                 // per id: elements it supports, ascending
+};
+
+// Row x (dx/du, dx/dv, dx/dw) of bezier::jacobian_samples of a polynomial hex of degree p in each
+// direction from its points' x coordinates: same samples, order and arithmetic (its
+// polynomial_jacobian on one coordinate), so the rows are bit-identical at a third of the cost.
+class XRowSamples {
+ public:
+  XRowSamples(int degree, int gauss_points) : n_(degree + 1) {
+    std::vector<double> t = bezier::gauss_legendre_points(gauss_points);
+    t.insert(t.begin(), {0.0, 1.0});
+    for (const double x : t) {
+      Eigen::VectorXd db;
+      B_.push_back(bezier::bernstein_basis(degree, x, &db));
+      dB_.push_back(db);
+    }
+  }
+
+  void operator()(const std::vector<double>& x, std::vector<Eigen::RowVector3d>& out) const {
+    out.clear();
+    for (std::size_t c = 0; c < 8; ++c) out.push_back(row(x, c & 1, (c >> 1) & 1, (c >> 2) & 1));
+    for (std::size_t w = 2; w < B_.size(); ++w)
+      for (std::size_t v = 2; v < B_.size(); ++v)
+        for (std::size_t u = 2; u < B_.size(); ++u) out.push_back(row(x, u, v, w));
+  }
+
+ private:
+  Eigen::RowVector3d row(const std::vector<double>& x, std::size_t a, std::size_t b, std::size_t c) const {
+    const Eigen::VectorXd &Bu = B_[a], &dBu = dB_[a], &Bv = B_[b], &dBv = dB_[b], &Bw = B_[c], &dBw = dB_[c];
+    double xu = 0, xv = 0, xw = 0;
+    for (int k = 0; k < n_; ++k) {
+      double T = 0, Tu = 0, Tv = 0;
+      for (int j = 0; j < n_; ++j) {
+        double S = 0, Su = 0;
+        const double* P = &x[static_cast<std::size_t>(n_ * (j + n_ * k))];
+        for (int i = 0; i < n_; ++i) S += Bu[i] * P[i], Su += dBu[i] * P[i];
+        T += Bv[j] * S, Tu += Bv[j] * Su, Tv += dBv[j] * S;
+      }
+      xu += Bw[k] * Tu, xv += Bw[k] * Tv, xw += dBw[k] * T;
+    }
+    return Eigen::RowVector3d(xu, xv, xw);
+  }
+
+  int n_;
+  std::vector<Eigen::VectorXd> B_, dB_;  // at 0, 1, then the Gauss points
 };
 
 // The sampled Jacobians of a node's elements as affine functions of its displacement d,
@@ -241,6 +313,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   // date with every accepted move, so a node's search does not re-evaluate them).
   std::vector<Quality> q(s.size());
   std::vector<std::vector<Eigen::Matrix3d>> samples(s.size());
+  std::vector<XRowSamples> x_rows;  // per block (its degree)
+  for (const TMesh& t : blocks) x_rows.emplace_back(t.degree, params.gauss_points);
   core::parallel_for(s.size(), [&](std::size_t e) {
     const bezier::BezierHex h = s.hex(e);
     samples[e] = bezier::jacobian_samples(h, params.gauss_points);
@@ -306,6 +380,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         // (∇N: gradient of the node's basis function there), so each element's sampled J(x0) and
         // ∇N are taken once per node. Most of the optimization's time was these re-evaluations.
         AffineSamples linear;
+        std::vector<Eigen::RowVector3d> J1;  // row x of the samples with the node moved by h along x
         std::vector<int> direct;  // elements not certified valid: re-evaluated and certified per call
         for (const int x : near) {
           if (!q[static_cast<std::size_t>(x)].valid) {
@@ -314,8 +389,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
           }
           const std::vector<Eigen::Matrix3d>& J0 = samples[static_cast<std::size_t>(x)];
           s.set_position(id, {x0[0] + h, x0[1], x0[2]});
-          const std::vector<Eigen::Matrix3d> J1 = bezier::jacobian_samples(s.hex(static_cast<std::size_t>(x)), params.gauss_points);
-          for (std::size_t k = 0; k < J1.size(); ++k) linear.add(J0[k], (J1[k].row(0) - J0[k].row(0)) / h);
+          x_rows[static_cast<std::size_t>(s.block_of(static_cast<std::size_t>(x)))](s.hex_x(static_cast<std::size_t>(x)), J1);
+          for (std::size_t k = 0; k < J1.size(); ++k) linear.add(J0[k], (J1[k] - J0[k].row(0)) / h);
         }
         s.set_position(id, x0);
         auto objective = [&](const std::vector<double>& d) {
@@ -359,7 +434,15 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
         std::vector<Quality> now(els.size());
         double after = std::numeric_limits<double>::infinity();
-        for (std::size_t k = 0; k < els.size(); ++k) {
+        // Worst elements first: `after` only falls, so the move is refused as soon as it reaches
+        // `before` (most moves), without evaluating the other elements.
+        std::vector<std::size_t> order(els.size());
+        for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+          return q[static_cast<std::size_t>(els[a])].scaled < q[static_cast<std::size_t>(els[b])].scaled;
+        });
+        for (const std::size_t k : order) {
+          if (!(after > before + 1e-9)) break;
           const std::size_t x = static_cast<std::size_t>(els[k]);
           hexes[k] = s.hex(x);
           js[k] = bezier::jacobian_samples(hexes[k], params.gauss_points);
@@ -372,8 +455,14 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
           }
         }
         bool ok = after > before + 1e-9;
-        for (std::size_t k = 0; k < els.size() && ok; ++k)
-          if (q[static_cast<std::size_t>(els[k])].valid) ok = now[k].valid = bezier::certify(hexes[k], cp).status == bezier::Validity::valid;
+        if (ok) {
+          // A gain: certify the valid elements (on 2 threads; each result to its own slot).
+          std::vector<char> kept(els.size(), 1);
+          core::parallel_for(els.size(), [&](std::size_t k) {
+            if (q[static_cast<std::size_t>(els[k])].valid) kept[k] = now[k].valid = bezier::certify(hexes[k], cp).status == bezier::Validity::valid;
+          }, 8);
+          ok = std::find(kept.begin(), kept.end(), 0) == kept.end();
+        }
         if (!ok) {
           s.set_position(id, x0);
           continue;
