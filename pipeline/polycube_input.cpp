@@ -114,6 +114,7 @@ struct Ring {
   std::unique_ptr<volmap::Locator> locate;
   std::unique_ptr<RingSurface> surface;  // points on the round faces
   bool swap = false;  // b <-> c, so that the cubes' parameters are right-handed in physical space
+  std::array<std::vector<double>, 3> cuts;  // sharp curves inside faces (local coordinates, before the swap)
 };
 
 Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vmj) {
@@ -147,6 +148,17 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
     throw core::InvalidInputError(in + ": malformed polycube.cells: " + x.what());
   }
   r.surface = std::make_unique<RingSurface>(vm, e);
+  if (pc.contains("cuts")) {  // files written before session 11 have none
+    try {
+      r.cuts = pc["cuts"].get<std::array<std::vector<double>, 3>>();
+    } catch (const core::Json::exception& x) {
+      throw core::InvalidInputError(in + ": malformed polycube.cuts: " + x.what());
+    }
+    for (const auto& c : r.cuts)
+      for (std::size_t i = 0; i < c.size(); ++i)
+        if (!(c[i] >= 0.01 && c[i] <= 0.99) || (i > 0 && !(c[i] > c[i - 1] + 0.01)) || !r.cuts[0].empty())
+          throw core::InvalidInputError(in + ": polycube.cuts must be increasing heights in [0.01, 0.99] at least 0.01 apart, none along the ring");
+  }
   // The ring's local frame is right- or left-handed depending on the directions split chose; the
   // sign of the map's Jacobian at the first cube's centre (central differences) tells which.
   const double h = 0.05;
@@ -166,12 +178,22 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
 // Tori: every ring's cubes, numbered ring after ring; a = 0 and a = 1 are cross sections (shared
 // with the neighbouring cube), the other four faces lie on the surface. Rings are translated apart
 // in polycube space so their points never coincide.
-tmesh::PolycubeMaps ring_maps(std::vector<Ring> list) {
+tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& params) {
   const auto rings = std::make_shared<const std::vector<Ring>>(std::move(list));
   tmesh::PolycubeMaps m;
   std::vector<std::pair<int, int>> cube;  // (ring, cube in ring)
+  bool cut = false;
+  for (const Ring& r : *rings) cut = cut || !r.cuts[1].empty() || !r.cuts[2].empty();
   for (std::size_t r = 0; r < rings->size(); ++r)
-    for (int k = 0; k < (*rings)[r].embedding.ring; ++k) cube.emplace_back(static_cast<int>(r), k), m.boundary.push_back({0, 0, 1, 1, 1, 1});
+    for (int k = 0; k < (*rings)[r].embedding.ring; ++k) {
+      cube.emplace_back(static_cast<int>(r), k), m.boundary.push_back({0, 0, 1, 1, 1, 1});
+      if (!cut) continue;
+      // Sharp curves inside faces lie on block faces: C0 there (Liu et al. §5.2, repeated knots).
+      std::array<std::vector<double>, 3> cuts = (*rings)[r].cuts;
+      if ((*rings)[r].swap) std::swap(cuts[1], cuts[2]);
+      const int n = 1 << params.level;
+      m.blocks.push_back(tmesh::cube_blocks(m.boundary.back(), {n, n, n}, params.pillow_layers, cuts));
+    }
   auto local = [rings, cube](int c, std::array<double, 3> abc) {
     const auto [r, k] = cube.at(static_cast<std::size_t>(c));
     const Ring& ring = (*rings)[static_cast<std::size_t>(r)];
@@ -242,7 +264,7 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
         for (const auto& ring : list) rings.push_back(read_ring(in, core::require(ring, "polycube", in), core::require(ring, "volume_map", in)));
       }
     }
-    r.maps = ring_maps(std::move(rings));
+    r.maps = ring_maps(std::move(rings), params);
     return r;
   }
   if (kind == "difference") {

@@ -171,6 +171,7 @@ void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const
     core::LogSection s(what + "surface map");
     polycube::PatchMapParams pp;
     pp.weights = ctx.config.polycube.weights;
+    pp.sharp_lines = ctx.config.polycube.sharp_lines;
     m = polycube::map_torus_surface(d, pp);
   }
   {

@@ -168,11 +168,206 @@ split::Decomposition merge_face_patches(const split::Decomposition& d) {
   return r;
 }
 
+namespace {
+
+// Chains shared by two patches of one face: the sharp curves inside it, each from one cross side
+// to the other.
+std::vector<std::vector<int>> inner_chains(const split::Layout& L, const std::vector<int>& patches) {
+  std::map<std::pair<int, int>, std::pair<std::size_t, const std::vector<int>*>> ends;  // (first, last) -> (patch slot, chain)
+  std::vector<std::vector<int>> chains;
+  for (std::size_t i = 0; i < patches.size(); ++i)
+    for (const auto& side : L.patches.at(static_cast<std::size_t>(patches[i])).sides) {
+      if (side.size() < 2) continue;
+      const auto it = ends.find({side.back(), side.front()});
+      if (it != ends.end() && it->second.first != i && std::equal(side.rbegin(), side.rend(), it->second.second->begin()))
+        chains.push_back(side);
+      else
+        ends[{side.front(), side.back()}] = {i, &side};
+    }
+  return chains;
+}
+
+// Lays the sharp curves inside the faces of a torus on straight lines (see TorusSurfaceMap):
+// new patch maps for those faces, and the lines' heights. `input` is the decomposition before
+// merging, `d` after, `e` the embedding of the merged maps (for the corners' local coordinates).
+std::array<std::vector<double>, 3> straighten_sharp_curves(const split::Decomposition& input, const split::Decomposition& d,
+                                                          const Embedding& e, const PatchMapParams& params, std::vector<PatchMap>& maps) {
+  const split::Layout& L = d.layout;
+  const int n = static_cast<int>(d.tori.at(0).components.size());
+  struct Line {
+    double f0 = 0, f1 = 0;   // across-face positions (arc length) at a = 0 and a = 1
+    std::vector<int> chain;  // from its a = 0 end
+  };
+  struct Face {
+    int patch = -1;
+    std::array<Vec3, 4> X;  // local coordinates of the merged patch's corners
+    int across = 0;
+    std::vector<Line> lines;
+  };
+  std::vector<std::array<Face, 4>> faces(static_cast<std::size_t>(n));
+  bool any = false;
+  for (int k = 0; k < n; ++k) {
+    const int comp = d.tori[0].components[static_cast<std::size_t>(k)];
+    std::map<int, int> local_corner;
+    for (int c = 0; c < 8; ++c) local_corner[e.corner_vertex[static_cast<std::size_t>(k)][static_cast<std::size_t>(c)]] = c;
+    for (int i = 0; i < 4; ++i) {
+      const auto& sub = input.components.at(static_cast<std::size_t>(comp)).faces.at(static_cast<std::size_t>(i)).patches;
+      if (sub.size() < 2) continue;
+      Face& F = faces[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)];
+      F.patch = d.components[static_cast<std::size_t>(comp)].faces[static_cast<std::size_t>(i)].patches.at(0);
+      const split::Patch& P = L.patches.at(static_cast<std::size_t>(F.patch));
+      for (int j = 0; j < 4; ++j) {
+        const int c = local_corner.at(P.corners[static_cast<std::size_t>(j)]);
+        F.X[static_cast<std::size_t>(j)] = {double(c & 1), double((c >> 1) & 1), double((c >> 2) & 1)};
+      }
+      F.across = F.X[0][1] != F.X[1][1] || F.X[0][1] != F.X[2][1] ? 1 : 2;
+      // Position of a vertex on a cross side (a constant), measured from across = 0, by arc length.
+      std::map<int, std::pair<int, double>> on_cross;  // vertex -> (a, across position)
+      for (int s = 0; s < 4; ++s) {
+        const Vec3 &A = F.X[static_cast<std::size_t>(s)], &B = F.X[static_cast<std::size_t>((s + 1) % 4)];
+        if (A[0] != B[0]) continue;
+        const auto frac = arc_length_fractions(L, P.sides[static_cast<std::size_t>(s)]);
+        for (std::size_t q = 0; q < frac.size(); ++q)
+          on_cross[P.sides[static_cast<std::size_t>(s)][q]] = {int(A[0]), A[static_cast<std::size_t>(F.across)] == 0 ? frac[q] : 1 - frac[q]};
+      }
+      for (auto chain : inner_chains(input.layout, sub)) {
+        const auto a = on_cross.find(chain.front()), b = on_cross.find(chain.back());
+        if (a == on_cross.end() || b == on_cross.end() || a->second.first == b->second.first) return {};  // not a strip boundary
+        Line line;
+        if (a->second.first == 1) std::reverse(chain.begin(), chain.end());
+        line.f0 = a->second.first == 0 ? a->second.second : b->second.second;
+        line.f1 = a->second.first == 0 ? b->second.second : a->second.second;
+        line.chain = std::move(chain);
+        F.lines.push_back(std::move(line));
+      }
+      std::sort(F.lines.begin(), F.lines.end(), [](const Line& x, const Line& y) { return x.f0 < y.f0; });
+      any = any || !F.lines.empty();
+    }
+  }
+  if (!any) return {};
+  // One height per line and face index, the same in every cube.
+  std::array<std::vector<double>, 4> u;
+  for (int i = 0; i < 4; ++i) {
+    const std::size_t count = faces[0][static_cast<std::size_t>(i)].lines.size();
+    u[static_cast<std::size_t>(i)].assign(count, 0.0);
+    for (int k = 0; k < n; ++k) {
+      const Face& F = faces[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)];
+      if (F.lines.size() != count) return {};
+      for (std::size_t j = 0; j < count; ++j) u[static_cast<std::size_t>(i)][j] += (F.lines[j].f0 + F.lines[j].f1) / (2.0 * n);
+    }
+  }
+  // Opposite faces with as many lines at nearly the same heights share them: the cuts run through
+  // the whole cube, and two nearly equal ones would leave a sliver of elements.
+  for (int i = 0; i < 2; ++i) {
+    auto &p = u[static_cast<std::size_t>(i)], &q = u[static_cast<std::size_t>(i + 2)];
+    if (p.size() != q.size()) continue;
+    bool close = true;
+    for (std::size_t j = 0; j < p.size(); ++j) close = close && std::abs(p[j] - q[j]) < 0.1;
+    if (close)
+      for (std::size_t j = 0; j < p.size(); ++j) p[j] = q[j] = (p[j] + q[j]) / 2;
+  }
+  std::array<std::vector<double>, 3> cuts;
+  for (int i = 0; i < 4; ++i) {
+    const auto& ui = u[static_cast<std::size_t>(i)];
+    if (!ui.empty()) cuts[static_cast<std::size_t>(faces[0][static_cast<std::size_t>(i)].across)].insert(cuts[static_cast<std::size_t>(faces[0][static_cast<std::size_t>(i)].across)].end(), ui.begin(), ui.end());
+  }
+  for (auto& c : cuts) {
+    std::sort(c.begin(), c.end());
+    c.erase(std::unique(c.begin(), c.end(), [](double x, double y) { return std::abs(x - y) < 1e-9; }), c.end());
+    double last = 0;
+    for (const double x : c) {
+      if (x - last < 0.05) return {};  // lines this close would leave slivers of elements
+      last = x;
+    }
+    if (!c.empty() && 1 - last < 0.05) return {};
+  }
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < 4; ++i) {
+      const Face& F = faces[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)];
+      if (F.lines.empty()) continue;
+      const auto& ui = u[static_cast<std::size_t>(i)];
+      const std::size_t ax = static_cast<std::size_t>(F.across);
+      const split::Patch& P = L.patches[static_cast<std::size_t>(F.patch)];
+      // Local coordinates -> the patch square (the face is axis-aligned, so the map is affine).
+      const Vec3 &X0 = F.X[0], &X1 = F.X[1], &X3 = F.X[3];
+      std::map<int, std::array<double, 2>> fixed;
+      auto fix = [&](int v, const Vec3& x) {
+        double s = 0, t = 0;
+        for (int q = 0; q < 3; ++q) s += (x[q] - X0[q]) * (X1[q] - X0[q]), t += (x[q] - X0[q]) * (X3[q] - X0[q]);
+        fixed[v] = {s, t};
+      };
+      for (int s = 0; s < 4; ++s) {
+        const Vec3 &A = F.X[static_cast<std::size_t>(s)], &B = F.X[static_cast<std::size_t>((s + 1) % 4)];
+        const auto& side = P.sides[static_cast<std::size_t>(s)];
+        if (A[0] != B[0]) {  // along the ring: by arc length, as every patch side
+          const auto frac = arc_length_fractions(L, side);
+          for (std::size_t q = 0; q < side.size(); ++q) {
+            Vec3 x;
+            for (int c = 0; c < 3; ++c) x[c] = A[c] + frac[q] * (B[c] - A[c]);
+            fix(side[q], x);
+          }
+          continue;
+        }
+        // A cross side: the lines' ends at their heights, arc length in between.
+        const int a = int(A[0]);
+        std::vector<std::size_t> breaks{0};
+        std::vector<double> at{A[ax]};
+        for (std::size_t j = 0; j < F.lines.size(); ++j) {
+          const int end = a == 0 ? F.lines[j].chain.front() : F.lines[j].chain.back();
+          const auto it = std::find(side.begin(), side.end(), end);
+          if (it == side.end()) return {};
+          breaks.push_back(static_cast<std::size_t>(it - side.begin()));
+          at.push_back(ui[j]);
+        }
+        breaks.push_back(side.size() - 1);
+        at.push_back(B[ax]);
+        // Sort the breaks along the side (heights run from A to B).
+        std::vector<std::size_t> order(breaks.size());
+        for (std::size_t q = 0; q < order.size(); ++q) order[q] = q;
+        std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return breaks[x] < breaks[y]; });
+        for (std::size_t q = 0; q + 1 < order.size(); ++q) {
+          const std::size_t lo = breaks[order[q]], hi = breaks[order[q + 1]];
+          const double h0 = at[order[q]], h1 = at[order[q + 1]];
+          if ((h1 - h0) * (B[ax] - A[ax]) <= 0 && lo != hi) return {};  // lines out of order along the side
+          const std::vector<int> piece(side.begin() + static_cast<long>(lo), side.begin() + static_cast<long>(hi) + 1);
+          const auto frac = arc_length_fractions(L, piece);
+          for (std::size_t r = 0; r < piece.size(); ++r) {
+            Vec3 x = A;
+            x[ax] = h0 + frac[r] * (h1 - h0);
+            fix(piece[r], x);
+          }
+        }
+      }
+      for (std::size_t j = 0; j < F.lines.size(); ++j) {
+        const auto& chain = F.lines[j].chain;
+        const auto frac = arc_length_fractions(L, chain);
+        for (std::size_t r = 0; r < chain.size(); ++r) {
+          Vec3 x = X0;
+          x[0] = frac[r];
+          x[ax] = ui[j];
+          fix(chain[r], x);
+        }
+      }
+      const auto pos = harmonic_positions(L, P.triangles, fixed, params, "patch " + std::to_string(F.patch));
+      PatchMap pm;
+      for (const auto& [v, x] : pos) pm.vertices.push_back(v), pm.st.push_back(x);
+      const MapQuality q = map_quality(L, P.triangles, pos);
+      pm.flipped_triangles = q.flipped_triangles;
+      pm.max_angle_distortion_deg = q.max_angle_distortion_deg;
+      maps.at(static_cast<std::size_t>(F.patch)) = std::move(pm);
+    }
+  return cuts;
+}
+
+}  // namespace
+
 TorusSurfaceMap map_torus_surface(const split::Decomposition& input, const PatchMapParams& params) {
   TorusSurfaceMap m;
   const split::Decomposition d = merge_face_patches(input);
-  const auto maps = map_patches(d, params);
+  auto maps = map_patches(d, params);
   m.embedding = embed_torus(d, maps);
+  if (params.sharp_lines) m.cuts = straighten_sharp_curves(input, d, m.embedding, params, maps);
+  if (!m.cuts[1].empty() || !m.cuts[2].empty()) m.embedding = embed_torus(d, maps);
   for (const auto& p : maps) {
     m.flipped_surface_triangles += p.flipped_triangles;
     m.max_angle_distortion_deg = std::max(m.max_angle_distortion_deg, p.max_angle_distortion_deg);
@@ -192,6 +387,7 @@ core::Json to_json(const TorusSurfaceMap& m) {
                     {"points", pts},
                     {"cells", cells},
                     {"corner_vertex", m.embedding.corner_vertex},
+                    {"cuts", m.cuts},
                     {"flipped_surface_triangles", m.flipped_surface_triangles},
                     {"max_angle_distortion_deg", m.max_angle_distortion_deg}};
 }

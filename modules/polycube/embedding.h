@@ -52,14 +52,24 @@ split::Decomposition merge_face_patches(const split::Decomposition& d);
 
 /// The surface map of a torus decomposition (faces of several patches merged, see above): patch
 /// maps placed on the ring embedding.
+///
+/// With params.sharp_lines, sharp curves inside faces (a face tiled by strips of patches along the
+/// ring, e.g. the washer's) are laid on straight lines of the face: the patches become strips between the
+/// lines, each line at one height `u` across the face in every cube of the ring (the mean of its
+/// arc-length positions on the cross sections), so the T-mesh can put C0 block faces on them
+/// (Liu et al. §5.2, sharp features by repeated knots). `cuts[axis]` lists those heights in local
+/// coordinates (axis 1 = b for faces c = 0/1, axis 2 = c for faces b = 0/1; axis 0 stays empty).
+/// Faces whose patches are not strips like this, or rings whose faces have different numbers of
+/// lines, keep the merged map (and no cuts).
 struct TorusSurfaceMap {
   Embedding embedding;
   int flipped_surface_triangles = 0;
   double max_angle_distortion_deg = 0;
+  std::array<std::vector<double>, 3> cuts;
 };
 TorusSurfaceMap map_torus_surface(const split::Decomposition& d, const PatchMapParams& params);
 
-/// Stage-file payload: {"kind": "torus", "ring", "mirrored", "cells", "corner_vertex", "points", figures}.
+/// Stage-file payload: {"kind": "torus", "ring", "mirrored", "cells", "corner_vertex", "points", "cuts", figures}.
 core::Json to_json(const TorusSurfaceMap& m);
 
 /// ParaView view: the segmented surface (fill triangles included) with the embedding point moved

@@ -27,6 +27,9 @@ struct PatchMap {
 /// Parameters of map_patches().
 struct PatchMapParams {
   std::string weights = "mean-value";  ///< "mean-value" (Floater 2003) or "uniform" (Tutte 1963)
+  /// Tori: sharp curves inside cube faces on straight lines, for C0 block faces there
+  /// (TorusSurfaceMap::cuts); off: such faces are mapped as one patch (the spline is C2 across).
+  bool sharp_lines = false;
 };
 
 /// 2D positions of the vertices of `triangles` (layout ids): those in `fixed` where they are given,

@@ -32,6 +32,10 @@ struct Params {
   /// many sweeps of per-vertex smoothing (volmap::Params::smooth_sweeps); 0 = none [0, 10000].
   int smooth_sweeps = 300;
   double smooth_below_ratio = 1e-3;  ///< min volume ratio (smallest tet volume / mean, dimensionless) [0, 1]
+  /// Tori: sharp curves inside cube faces laid on straight lines and made C0 block faces by tmesh
+  /// (PatchMapParams::sharp_lines). Off by default: on the washer it lowered the valid elements
+  /// (docs/status.md, session 11).
+  bool sharp_lines = false;
 };
 
 /// The polycube (so far one unit cube) and the surface map onto it.

@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 
 #include "../common/test_util.h"
+#include "core/errors.h"
 #include "polycube_input.h"
 #include "surface/mesh_json.h"
 #include "surface/surface.h"
@@ -65,6 +67,50 @@ TEST(PolycubeInput, RingPointsOnTheRoundFacesLieOnTheSurface) {
   // And a point inside is not on the surface (the check above is not vacuous).
   const tmesh::Vec3 centre = in.maps.physical(0, {0.5, 0.5, 0.5});
   EXPECT_GT(std::sqrt(CGAL::to_double(tree.squared_distance(surface::Point(centre[0], centre[1], centre[2])))), 0.05 * diag);
+}
+
+TEST(PolycubeInput, RingCutsBecomeBlockFacesAndBadCutsNameTheFile) {
+  // polycube.cuts (sharp curves inside faces, polycube.sharp_lines) cut every ring cube's blocks
+  // there (tmesh::cube_blocks): the C0 block faces of the paper's repeated knots.
+  const fs::path d = test::fresh_dir("pipeline", "polycube_input_cuts");
+  test::write_text(d / "run.yaml", "input: {generate: torus, resolution: 16}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string() + " --to polycube");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string file = (d / "w" / "polycube.stage.json").string();
+  core::Json j = core::read_stage_file(file, "volts-polycube", 2);
+  EXPECT_EQ(j["polycube"]["cuts"], core::Json::parse("[[], [], []]"));  // sharp_lines is off by default
+  EXPECT_TRUE(pipeline::read_polycube_input(file, tmesh::Params{}).maps.blocks.empty());
+  j["polycube"]["cuts"] = core::Json::parse("[[], [0.3], [0.6, 0.8]]");
+  const std::string cut = (d / "cut.json").string();
+  test::write_text(cut, j.dump());
+  const pipeline::PolycubeInput in = pipeline::read_polycube_input(cut, tmesh::Params{});
+  ASSERT_EQ(in.maps.blocks.size(), 4u);
+  for (const auto& blocks : in.maps.blocks) {
+    // core 2 x 3, the slabs under the faces across b cut twice, across c once: 6 + 2 * 3 + 2 * 2.
+    EXPECT_EQ(blocks.size(), 16u);
+    // The cut heights appear as block corners on the surface faces (in the cube's axes, which may
+    // swap b and c to keep the map right-handed).
+    std::set<double> b_at_c0, c_at_b0;
+    for (const auto& b : blocks)
+      for (const auto& x : b.corners) {
+        if (x[2] == 0) b_at_c0.insert(x[1]);
+        if (x[1] == 0) c_at_b0.insert(x[2]);
+      }
+    const bool straight = b_at_c0.count(0.3) && c_at_b0.count(0.6) && c_at_b0.count(0.8);
+    const bool swapped = c_at_b0.count(0.3) && b_at_c0.count(0.6) && b_at_c0.count(0.8);
+    EXPECT_TRUE(straight != swapped);
+  }
+  for (const char* bad : {"[[0.5], [], []]", "[[], [0.6, 0.3], []]", "[[], [1.2], []]", "{\"b\": 1}"}) {
+    j["polycube"]["cuts"] = core::Json::parse(bad);
+    test::write_text(cut, j.dump());
+    try {
+      pipeline::read_polycube_input(cut, tmesh::Params{});
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const core::InvalidInputError& e) {
+      EXPECT_NE(std::string(e.what()).find(cut), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("cuts"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -124,3 +124,44 @@ TEST(Embedding, WasherVolumeMapIsOneToOne) {
               vm.tets.size(), vm.flipped_tets_before_untangling, vm.flipped_tets, vm.collapsed_edges, vm.min_volume_ratio);
   test::expect_ring_map_one_to_one(d, sm.embedding, vm, 5);
 }
+
+// Sharp curves inside faces on straight lines (PatchMapParams::sharp_lines): the washer's faces
+// are strips of three patches; the two curves between them land on one height across the face in
+// every cube, so tmesh can make them C0 block faces.
+TEST(Embedding, WasherSharpCurvesInsideFacesLieOnStraightLines) {
+  const auto m = model("loopycuts_mechanical08_rem.obj");
+  const auto d = split::split(m, classify::classify(m, {}), {});
+  auto on_lines = [&](const polycube::TorusSurfaceMap& sm, const std::array<std::vector<double>, 3>& cuts) {
+    int n = 0;
+    for (const auto& p : sm.embedding.points) {
+      if (!std::isfinite(p[0])) continue;
+      const double b = std::hypot(p[0], p[1]) - 1, c = sm.embedding.mirrored ? 1 - p[2] : p[2];
+      const bool on_c_face = std::abs(c) < 1e-12 || std::abs(c - 1) < 1e-12, on_b_face = std::abs(b) < 1e-12 || std::abs(b - 1) < 1e-12;
+      bool hit = false;
+      for (double u : cuts[1]) hit = hit || (on_c_face && std::abs(b - u) < 1e-12);
+      for (double u : cuts[2]) hit = hit || (on_b_face && std::abs(c - u) < 1e-12);
+      n += hit;
+    }
+    return n;
+  };
+  polycube::PatchMapParams pp;
+  pp.sharp_lines = true;
+  const auto sm = polycube::map_torus_surface(d, pp);
+  EXPECT_EQ(sm.flipped_surface_triangles, 0);
+  EXPECT_LT(sm.embedding.max_mismatch, 1e-12);
+  EXPECT_TRUE(sm.cuts[0].empty());
+  for (int axis = 1; axis < 3; ++axis) {
+    ASSERT_EQ(sm.cuts[static_cast<std::size_t>(axis)].size(), 2u) << axis;
+    for (double u : sm.cuts[static_cast<std::size_t>(axis)]) {
+      EXPECT_GT(u, 0.05);
+      EXPECT_LT(u, 0.95);
+    }
+  }
+  // The 8 sharp rings inside faces have 61 edges each on the input mesh (more vertices after split's cuts).
+  const int straight = on_lines(sm, sm.cuts);
+  EXPECT_GE(straight, 8 * 61);
+  // Off, the same heights hold (almost) no vertex: the lines are the straightening's doing.
+  const auto merged = polycube::map_torus_surface(d, {});
+  EXPECT_TRUE(merged.cuts[1].empty() && merged.cuts[2].empty());
+  EXPECT_LT(on_lines(merged, sm.cuts), straight / 10);
+}
