@@ -22,15 +22,22 @@ namespace fs = std::filesystem;
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<surface::Mesh>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<surface::Kernel, Primitive>>;
 
+// The generated torus at resolution 16 run through stage polycube in a fresh directory: its
+// polycube.stage.json ("" and a test failure if the run failed).
+std::string torus_polycube_file(const std::string& name) {
+  const fs::path d = test::fresh_dir("pipeline", name);
+  test::write_text(d / "run.yaml", "input: {generate: torus, resolution: 16}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string() + " --to polycube");
+  EXPECT_EQ(r.code, 0) << r.output;
+  return r.code == 0 ? (d / "w" / "polycube.stage.json").string() : std::string();
+}
+
 TEST(PolycubeInput, RingPointsOnTheRoundFacesLieOnTheSurface) {
   // The generated torus at resolution 16 (coarse: the chords of the round ring's faces are long).
   // Through the tets, the inner round face's points lay up to the chords' sagitta inside the
   // surface (measured 1e-2 off for some), and smoothing the interior moved them.
-  const fs::path d = test::fresh_dir("pipeline", "polycube_input_ring");
-  test::write_text(d / "run.yaml", "input: {generate: torus, resolution: 16}\n");
-  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string() + " --to polycube");
-  ASSERT_EQ(r.code, 0) << r.output;
-  const std::string file = (d / "w" / "polycube.stage.json").string();
+  const std::string file = torus_polycube_file("polycube_input_ring");
+  ASSERT_FALSE(file.empty());
   const pipeline::PolycubeInput in = pipeline::read_polycube_input(file, tmesh::Params{});
   ASSERT_EQ(in.kind, "torus");
   const surface::Mesh mesh = surface::mesh_from_json(in.surface, file);
@@ -72,16 +79,13 @@ TEST(PolycubeInput, RingPointsOnTheRoundFacesLieOnTheSurface) {
 TEST(PolycubeInput, RingCutsBecomeBlockFacesAndBadCutsNameTheFile) {
   // polycube.cuts (sharp curves inside faces, polycube.sharp_lines) cut every ring cube's blocks
   // there (tmesh::cube_blocks): the C0 block faces of the paper's repeated knots.
-  const fs::path d = test::fresh_dir("pipeline", "polycube_input_cuts");
-  test::write_text(d / "run.yaml", "input: {generate: torus, resolution: 16}\n");
-  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string() + " --to polycube");
-  ASSERT_EQ(r.code, 0) << r.output;
-  const std::string file = (d / "w" / "polycube.stage.json").string();
+  const std::string file = torus_polycube_file("polycube_input_cuts");
+  ASSERT_FALSE(file.empty());
   core::Json j = core::read_stage_file(file, "volts-polycube", 2);
   EXPECT_EQ(j["polycube"]["cuts"], core::Json::parse("[[], [], []]"));  // sharp_lines is off by default
   EXPECT_TRUE(pipeline::read_polycube_input(file, tmesh::Params{}).maps.blocks.empty());
   j["polycube"]["cuts"] = core::Json::parse("[[], [0.3], [0.6, 0.8]]");
-  const std::string cut = (d / "cut.json").string();
+  const std::string cut = (fs::path(file).parent_path() / "cut.json").string();
   test::write_text(cut, j.dump());
   const pipeline::PolycubeInput in = pipeline::read_polycube_input(cut, tmesh::Params{});
   ASSERT_EQ(in.maps.blocks.size(), 4u);

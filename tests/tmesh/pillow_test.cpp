@@ -377,49 +377,53 @@ std::string describe(const std::array<int, 6>& boundary, const std::array<int, 3
          ", layers " + std::to_string(layers) + ", cuts #" + std::to_string(cuts);
 }
 
-}  // namespace
-
-TEST(PillowCuts, CutBlocksTileTheCubeWithPositiveJacobianAndTheCubesAxes) {
+// Runs `check` on every case of the family (boundary pattern, element counts, layers, cuts), traced.
+template <class Check>
+void for_each_case(const Check& check) {
   for (const auto& boundary : kBoundaries)
     for (const auto& elements : kElements)
       for (int layers = 0; layers <= 2; ++layers)
         for (std::size_t c = 0; c < kCuts.size(); ++c) {
           SCOPED_TRACE(describe(boundary, elements, layers, c));
-          const auto blocks = tmesh::cube_blocks(boundary, elements, layers, kCuts[c]);
-          std::size_t pieces = 1;
-          for (const auto& cut : kCuts[c]) pieces *= cut.size() + 1;
-          EXPECT_GE(blocks.size(), pieces);
-          check_blocks(blocks, layers > 0);  // pillowed: a slab has one surface face, the core none
-          // Volume: 2-point Gauss–Legendre per direction, exact for the trilinear Jacobian (degree 2 per variable).
-          const double g[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
-          double volume = 0;
-          for (const auto& b : blocks)
-            for (const double x : g)
-              for (const double y : g)
-                for (const double z : g) volume += det(jacobian(b.corners, {x, y, z})) / 8;
-          EXPECT_NEAR(volume, 1.0, 1e-12);
-          for (const auto& b : blocks)
-            for (int i = 0; i <= 4; ++i)
-              for (int j = 0; j <= 4; ++j)
-                for (int k = 0; k <= 4; ++k) {
-                  const auto J = jacobian(b.corners, {i / 4.0, j / 4.0, k / 4.0});
-                  EXPECT_GT(det(J), 0);
-                  for (std::size_t d = 0; d < 3; ++d) EXPECT_GT(J[d][d], 0) << "a block axis not along the cube's";
-                }
+          check(boundary, elements, layers, c);
         }
 }
 
+}  // namespace
+
+TEST(PillowCuts, CutBlocksTileTheCubeWithPositiveJacobianAndTheCubesAxes) {
+  for_each_case([&](const auto& boundary, const auto& elements, int layers, std::size_t c) {
+    const auto blocks = tmesh::cube_blocks(boundary, elements, layers, kCuts[c]);
+    std::size_t pieces = 1;
+    for (const auto& cut : kCuts[c]) pieces *= cut.size() + 1;
+    EXPECT_GE(blocks.size(), pieces);
+    check_blocks(blocks, layers > 0);  // pillowed: a slab has one surface face, the core none
+    // Volume: 2-point Gauss–Legendre per direction, exact for the trilinear Jacobian (degree 2 per variable).
+    const double g[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
+    double volume = 0;
+    for (const auto& b : blocks)
+      for (const double x : g)
+        for (const double y : g)
+          for (const double z : g) volume += det(jacobian(b.corners, {x, y, z})) / 8;
+    EXPECT_NEAR(volume, 1.0, 1e-12);
+    for (const auto& b : blocks)
+      for (int i = 0; i <= 4; ++i)
+        for (int j = 0; j <= 4; ++j)
+          for (int k = 0; k <= 4; ++k) {
+            const auto J = jacobian(b.corners, {i / 4.0, j / 4.0, k / 4.0});
+            EXPECT_GT(det(J), 0);
+            for (std::size_t d = 0; d < 3; ++d) EXPECT_GT(J[d][d], 0) << "a block axis not along the cube's";
+          }
+  });
+}
+
 TEST(PillowCuts, BlocksConformFaceToFaceAndTheSurfaceFacesCoverTheCubesSurfaceFaces) {
-  for (const auto& boundary : kBoundaries)
-    for (const auto& elements : kElements)
-      for (int layers = 0; layers <= 2; ++layers)
-        for (std::size_t c = 0; c < kCuts.size(); ++c) {
-          SCOPED_TRACE(describe(boundary, elements, layers, c));
-          const double area = check_cut_conformity(tmesh::cube_blocks(boundary, elements, layers, kCuts[c]), boundary);
-          int faces = 0;
-          for (const int b : boundary) faces += b;
-          EXPECT_NEAR(area, faces, 1e-12);
-        }
+  for_each_case([&](const auto& boundary, const auto& elements, int layers, std::size_t c) {
+    const double area = check_cut_conformity(tmesh::cube_blocks(boundary, elements, layers, kCuts[c]), boundary);
+    int faces = 0;
+    for (const int b : boundary) faces += b;
+    EXPECT_NEAR(area, faces, 1e-12);
+  });
 }
 
 TEST(PillowCuts, EveryCutLineOnASurfaceFaceIsAnEdgeBetweenTwoSurfaceFaces) {
@@ -471,34 +475,30 @@ TEST(PillowCuts, ElementsAreSpreadOverTheIntervalsByLength) {
   ASSERT_EQ(two.size(), 2u);
   EXPECT_EQ(two[0].second, 2);
   EXPECT_EQ(two[1].second, 6);
-  for (const auto& boundary : kBoundaries)
-    for (const auto& elements : kElements)
-      for (int layers = 0; layers <= 2; ++layers)
-        for (std::size_t c = 0; c < kCuts.size(); ++c) {
-          SCOPED_TRACE(describe(boundary, elements, layers, c));
-          const auto blocks = tmesh::cube_blocks(boundary, elements, layers, kCuts[c]);
-          for (std::size_t d = 0; d < 3; ++d) {
-            const auto iv = counts(blocks, d);
-            ASSERT_EQ(iv.size(), kCuts[c][d].size() + 1);
-            double length = 0;
-            int total = 0;
-            for (const auto& [len, n] : iv) length += len, total += n;
-            EXPECT_EQ(total, std::max(elements[d], static_cast<int>(iv.size())));
-            bool every_share_one = true;
-            for (const auto& [len, n] : iv) every_share_one = every_share_one && elements[d] * len / length >= 1;
-            for (const auto& [len, n] : iv) {
-              EXPECT_GE(n, 1);
-              if (every_share_one) {
-                EXPECT_LE(std::abs(n - elements[d] * len / length), 1.0);
-              }
-            }
-            // Slabs that span d follow the core: their counts along d are among the core's.
-            for (const auto& b : blocks)
-              if (b.pillow && !b.boundary[2 * d] && !b.boundary[2 * d + 1]) {
-                EXPECT_TRUE(std::any_of(iv.begin(), iv.end(), [&](const auto& x) { return x.second == b.elements[d]; }));
-              }
-          }
+  for_each_case([&](const auto& boundary, const auto& elements, int layers, std::size_t c) {
+    const auto blocks = tmesh::cube_blocks(boundary, elements, layers, kCuts[c]);
+    for (std::size_t d = 0; d < 3; ++d) {
+      const auto iv = counts(blocks, d);
+      ASSERT_EQ(iv.size(), kCuts[c][d].size() + 1);
+      double length = 0;
+      int total = 0;
+      for (const auto& [len, n] : iv) length += len, total += n;
+      EXPECT_EQ(total, std::max(elements[d], static_cast<int>(iv.size())));
+      bool every_share_one = true;
+      for (const auto& [len, n] : iv) every_share_one = every_share_one && elements[d] * len / length >= 1;
+      for (const auto& [len, n] : iv) {
+        EXPECT_GE(n, 1);
+        if (every_share_one) {
+          EXPECT_LE(std::abs(n - elements[d] * len / length), 1.0);
         }
+      }
+      // Slabs that span d follow the core: their counts along d are among the core's.
+      for (const auto& b : blocks)
+        if (b.pillow && !b.boundary[2 * d] && !b.boundary[2 * d + 1]) {
+          EXPECT_TRUE(std::any_of(iv.begin(), iv.end(), [&](const auto& x) { return x.second == b.elements[d]; }));
+        }
+    }
+  });
 }
 
 TEST(PillowCuts, NoCutsGiveTheUncutBlocksAndBadCutsAreRefused) {
