@@ -58,6 +58,8 @@ class RingSurface {
           Tri tri{k, {}};
           for (int j = 0; j < 3; ++j)
             tri.uv[j] = {dev[static_cast<std::size_t>(k[j])][0], dev[static_cast<std::size_t>(k[j])][static_cast<std::size_t>(3 - across)]};
+          // A triangle across the seam at A = 0 made whole (A may leave [0, ring)).
+          for (int j = 1; j < 3; ++j) tri.uv[j][0] = tri.uv[0][0] + std::remainder(tri.uv[j][0] - tri.uv[0][0], e.ring);
           faces_[face].push_back(tri);
         }
       }
@@ -76,8 +78,7 @@ class RingSurface {
       double best_min = -HUGE_VAL;
       for (const Tri& t : faces_[face]) {
         std::array<std::array<double, 2>, 3> p = t.uv;
-        // The seam at A = 0: the triangle made whole first, then moved by whole turns next to u.
-        for (int j = 1; j < 3; ++j) p[j][0] = p[0][0] + std::remainder(p[j][0] - p[0][0], ring_);
+        // Moved by whole turns next to u (the seam at A = 0).
         const double shift = u + std::remainder(p[0][0] - u, ring_) - p[0][0];
         for (auto& q : p) q[0] += shift;
         const double d = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
