@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <string>
 
 #include "core/errors.h"
@@ -231,6 +233,190 @@ std::vector<Block> difference_blocks(int axis, const Vec3& hole_lo, const Vec3& 
         {layers, ny[1], elements}, bx, true);
     add(frustum(1, {Y[1 + s], {X[1], 0, 0}, {X[2], 0, 1}}, {Yc[1 + s], {Xc[1], 0, t}, {Xc[2], 0, 1 - t}}, s == 0),
         {nx[1], layers, elements}, by, true);
+  }
+  return out;
+}
+
+namespace {
+
+// A block face lying on a cube face: its corners in the cube face's two coordinates (the cube axes
+// other than the face's, in increasing order; corner k: bit 0 along the first, bit 1 along the
+// second) and the block's element counts along them.
+struct FacePiece {
+  std::array<std::array<double, 2>, 4> x;
+  std::array<int, 2> n;
+};
+
+constexpr double kProfileTol = 1e-12;
+
+// The faces of `blocks` (whose axes are the cube's) lying on the cube face x_axis = side.
+std::vector<FacePiece> face_tiling(const std::vector<Block>& blocks, std::size_t axis, int side) {
+  const std::size_t u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
+  std::vector<FacePiece> out;
+  for (const Block& b : blocks)
+    for (std::size_t s = 0; s < 2; ++s) {
+      FacePiece f;
+      bool on = true;
+      for (std::size_t k = 0; k < 4; ++k) {
+        const Vec3& p = b.corners[(s << axis) | ((k & 1) << u) | ((k >> 1) << v)];
+        on = on && std::abs(p[axis] - side) < kProfileTol;
+        f.x[k] = {p[u], p[v]};
+      }
+      if (!on) continue;
+      f.n = {b.elements[u], b.elements[v]};
+      out.push_back(f);
+    }
+  return out;
+}
+
+// Whether two tilings have the same pieces (corners to kProfileTol, element counts), in any order.
+bool same_tiling(const std::vector<FacePiece>& f, const std::vector<FacePiece>& g) {
+  if (f.size() != g.size()) return false;
+  auto same = [](const FacePiece& p, const FacePiece& q) {
+    if (p.n != q.n) return false;
+    for (std::size_t k = 0; k < 4; ++k)
+      for (std::size_t d = 0; d < 2; ++d)
+        if (!(std::abs(p.x[k][d] - q.x[k][d]) < kProfileTol)) return false;
+    return true;
+  };
+  std::vector<bool> used(g.size(), false);
+  for (const FacePiece& p : f) {
+    std::size_t m = 0;
+    while (m < g.size() && (used[m] || !same(p, g[m]))) ++m;
+    if (m == g.size()) return false;
+    used[m] = true;
+  }
+  return true;
+}
+
+// The intervals a tiling's pieces cover along face coordinate w, in order: their ends and element counts.
+struct Intervals {
+  std::vector<double> ends;
+  std::vector<int> n;
+};
+Intervals intervals(const std::vector<FacePiece>& pieces, std::size_t w) {
+  std::vector<std::pair<std::array<double, 2>, int>> iv;  // ([lo, hi], elements)
+  for (const FacePiece& p : pieces) {
+    const double lo = std::min({p.x[0][w], p.x[1][w], p.x[2][w], p.x[3][w]}), hi = std::max({p.x[0][w], p.x[1][w], p.x[2][w], p.x[3][w]});
+    if (std::none_of(iv.begin(), iv.end(), [&](const auto& x) { return std::abs(x.first[0] - lo) < kProfileTol && std::abs(x.first[1] - hi) < kProfileTol; }))
+      iv.push_back({{lo, hi}, p.n[w]});
+  }
+  std::sort(iv.begin(), iv.end());
+  Intervals out;
+  for (const auto& [range, n] : iv) {
+    if (out.ends.empty()) out.ends.push_back(range[0]);
+    out.ends.push_back(range[1]);
+    out.n.push_back(n);
+  }
+  return out;
+}
+
+bool same_intervals(const Intervals& x, const Intervals& y) {
+  if (x.n != y.n || x.ends.size() != y.ends.size()) return false;
+  for (std::size_t i = 0; i < x.ends.size(); ++i)
+    if (!(std::abs(x.ends[i] - y.ends[i]) < kProfileTol)) return false;
+  return true;
+}
+
+std::string cell_name(const std::array<int, 2>& c) { return "(" + std::to_string(c[0]) + "," + std::to_string(c[1]) + ")"; }
+
+const char* const kAxisName[3] = {"a", "b", "c"};
+
+}  // namespace
+
+std::vector<std::vector<Block>> profile_blocks(const std::vector<std::array<int, 2>>& cells, int elements, int layers) {
+  if (layers < 0) throw core::ConfigError("tmesh.pillow_layers must be >= 0, got " + std::to_string(layers));
+  if (elements < 1) throw core::ConfigError("tmesh: a cube needs at least one element per direction");
+  if (cells.empty()) throw core::InvalidInputError("tmesh: the profile has no cells");
+  std::map<std::array<int, 2>, std::size_t> index;
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    if (!index.emplace(cells[i], i).second) throw core::InvalidInputError("tmesh: profile cell " + cell_name(cells[i]) + " is listed twice");
+  const std::size_t count = cells.size();
+  constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+  // nb[i][2 * axis + side]: the cell across cube face (axis, side) of cell i, kNone on the surface
+  // (and always for the a faces, which the ring glues to the same cell).
+  std::vector<std::array<std::size_t, 6>> nb(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    nb[i].fill(kNone);
+    for (std::size_t axis = 1; axis < 3; ++axis)
+      for (std::size_t side = 0; side < 2; ++side) {
+        std::array<long long, 2> q{cells[i][0], cells[i][1]};
+        q[axis - 1] += side ? 1 : -1;
+        if (q[axis - 1] < std::numeric_limits<int>::min() || q[axis - 1] > std::numeric_limits<int>::max()) continue;
+        const auto it = index.find({static_cast<int>(q[0]), static_cast<int>(q[1])});
+        if (it != index.end()) nb[i][2 * axis + side] = it->second;
+      }
+  }
+  std::vector<bool> seen(count, false);
+  std::vector<std::size_t> stack{0};
+  seen[0] = true;
+  while (!stack.empty()) {
+    const std::size_t i = stack.back();
+    stack.pop_back();
+    for (const std::size_t m : nb[i])
+      if (m != kNone && !seen[m]) seen[m] = true, stack.push_back(m);
+  }
+  for (std::size_t i = 0; i < count; ++i)
+    if (!seen[i])
+      throw core::InvalidInputError("tmesh: profile cell " + cell_name(cells[i]) + " is not edge-connected to cell " + cell_name(cells[0]));
+
+  std::vector<std::array<int, 6>> boundary(count);
+  std::vector<bool> surface(count, false);
+  for (std::size_t i = 0; i < count; ++i) {
+    boundary[i] = {0, 0, 0, 0, 0, 0};
+    for (std::size_t f = 2; f < 6; ++f) {
+      boundary[i][f] = nb[i][f] == kNone;
+      surface[i] = surface[i] || boundary[i][f];
+    }
+  }
+  std::vector<std::vector<Block>> out(count);
+  for (std::size_t i = 0; i < count; ++i)
+    if (surface[i] || layers == 0) out[i] = cube_blocks(boundary[i], {elements, elements, elements}, layers);
+  // Cells without a surface face: along d in {b, c}, cut where the slabs of the neighbours across
+  // the faces perpendicular to the other cross axis e end on the shared face, with their counts.
+  // Neighbours without a surface face have no slabs and ask for nothing.
+  if (layers > 0)
+    for (std::size_t i = 0; i < count; ++i) {
+      if (surface[i]) continue;
+      std::array<std::vector<double>, 3> cuts;
+      std::array<int, 3> counts{elements, elements, elements};
+      for (std::size_t d = 1; d < 3; ++d) {
+        const std::size_t e = 3 - d;
+        std::size_t from = kNone;
+        Intervals want;
+        for (int side = 0; side < 2; ++side) {
+          const std::size_t m = nb[i][2 * e + static_cast<std::size_t>(side)];
+          if (!surface[m]) continue;
+          // N's face toward cell i, in the coordinates (a, d): d is the second.
+          const Intervals got = intervals(face_tiling(out[m], e, 1 - side), 1);
+          if (from == kNone) {
+            from = m, want = got;
+          } else if (!same_intervals(got, want)) {
+            throw core::TopologyError("tmesh: profile cells " + cell_name(cells[from]) + " and " + cell_name(cells[m]) +
+                                      " end their pillow slabs differently along " + kAxisName[d] + " on the faces of cell " +
+                                      cell_name(cells[i]) + " between them, which has no surface face to pillow and cannot be cut to match both");
+          }
+        }
+        if (from == kNone) continue;
+        cuts[d].assign(want.ends.begin() + 1, want.ends.end() - 1);
+        counts[d] = 0;
+        for (const int n : want.n) counts[d] += n;
+      }
+      out[i] = cube_blocks({0, 0, 0, 0, 0, 0}, counts, 0, cuts);
+    }
+  // Conformity: the faces two cells share, and each cell's a = 0 and a = 1 faces (the ring).
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!same_tiling(face_tiling(out[i], 0, 0), face_tiling(out[i], 0, 1)))
+      throw core::TopologyError("tmesh: profile cell " + cell_name(cells[i]) +
+                                ": its blocks tile its faces a = 0 and a = 1 differently, so the ring does not close");
+    for (std::size_t axis = 1; axis < 3; ++axis) {
+      const std::size_t m = nb[i][2 * axis + 1];
+      if (m == kNone) continue;
+      if (!same_tiling(face_tiling(out[i], axis, 1), face_tiling(out[m], axis, 0)))
+        throw core::TopologyError("tmesh: profile cells " + cell_name(cells[i]) + " and " + cell_name(cells[m]) +
+                                  " do not conform with " + std::to_string(layers) + " pillow layer(s): their blocks tile the shared face (" +
+                                  kAxisName[axis] + " = 1 of the first) differently; this pillow rule cannot take the profile (0 layers can)");
+    }
   }
   return out;
 }

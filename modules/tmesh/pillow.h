@@ -59,6 +59,26 @@ std::vector<Block> cube_blocks(const std::array<int, 6>& boundary, const std::ar
 /// through the cube along `axis` or lies too close to the cube's sides for the pillow.
 std::vector<Block> difference_blocks(int axis, const Vec3& hole_lo, const Vec3& hole_hi, int elements, int layers);
 
+/// The blocks of a ring (torus) whose cross section is a union of grid cells instead of a square
+/// (e.g. a washer with a plus-shaped section): per cell (same order as `cells`), the blocks of its
+/// cube in the cube's parameters (a, b, c), a along the ring (faces a = 0 and a = 1 are the same
+/// cell of the neighbouring sectors, never surface), b along the grid's axis 0, c along its axis 1;
+/// a b or c face is on the surface iff no cell lies across it. A cell with a surface face is
+/// cube_blocks(its surface faces, {elements, elements, elements}, layers). A cell without one (the
+/// plus's centre) gets no pillow of its own but is cut (cube_blocks with cuts, no layers) where
+/// its neighbours' slabs end on its faces, with the same element counts: the slabs of the cells
+/// around it continue through it, so the pillow is one sheet under the whole surface that wraps
+/// around the concave edges of the section instead of ending on them (Liu et al. 2013 §5.2,
+/// Fig. 9), and the blocks still meet face to face. layers == 0: every cell is its cube, which
+/// trivially conforms.
+/// The result is checked: every face shared by two cells, and each cell's faces a = 0 and a = 1
+/// (glued around the ring), carry the same block faces with the same element counts on both sides.
+/// Throws core::ConfigError for elements < 1 or layers < 0; core::InvalidInputError if `cells` is
+/// empty, has a cell twice or is not edge-connected; core::TopologyError, naming the cells, for a
+/// section this rule cannot pillow conformingly (e.g. an L, whose corner cell has surface faces
+/// but would need cuts, or a cell without surface faces whose neighbours' slabs disagree).
+std::vector<std::vector<Block>> profile_blocks(const std::vector<std::array<int, 2>>& cells, int elements, int layers);
+
 /// Cube parameters of block parameters uvw (trilinear in the corners).
 Vec3 block_point(const std::array<Vec3, 8>& corners, const Vec3& uvw);
 
