@@ -24,15 +24,19 @@ namespace volts::pipeline {
 
 namespace {
 
-// The surface map of a ring on its four round faces, evaluated where it is defined: the
-// surface triangles in the developed coordinates of each face (A = cube index + a around the
-// ring, and b or c across), where they tile the face exactly and are affine images of the patch
-// maps. Point location in the tets instead puts points of the inner round face, which lie inside
+// The surface map of a ring on its round faces, evaluated where it is defined: the surface
+// triangles in the developed coordinates of each face (A = cube index + a around the ring, and b
+// or c across), where they tile the face exactly and are affine images of the patch maps. The
+// faces lie on the lines b = const or c = const of the cross section (the square's four sides, or
+// a profile's grid lines). Point location in the tets instead puts points of the inner round face, which lie inside
 // the tets' chords, up to the chords' sagitta inside the surface, at positions that depend on the
 // interior vertices (smoothing them moved the spline's boundary).
 class RingSurface {
  public:
   RingSurface(const volmap::VolumeMap& vm, const polycube::Embedding& e) : ring_(e.ring) {
+    const polycube::Profile& pr = e.profile;
+    for (const double b : pr.empty() ? std::vector<double>{0, 1} : pr.b) lines_.push_back({1, b, {}});
+    for (const double c : pr.empty() ? std::vector<double>{0, 1} : pr.c) lines_.push_back({2, c, {}});
     std::vector<std::array<double, 3>> dev(static_cast<std::size_t>(vm.surface_vertices));  // (A, b, c)
     for (int v = 0; v < vm.surface_vertices; ++v) {
       const Eigen::Vector3d& x = vm.parameter[static_cast<std::size_t>(v)];
@@ -51,32 +55,32 @@ class RingSurface {
       }
     for (const auto& [k, n] : count) {
       if (n != 1 || k[2] >= vm.surface_vertices) continue;
-      for (int face = 0; face < 4; ++face) {  // b = 0, b = 1, c = 0, c = 1
-        const int across = 1 + face / 2;
-        const double level = face % 2;
+      for (Line& line : lines_) {
+        const int across = line.across;
+        const double level = line.level;
         if (std::all_of(k.begin(), k.end(), [&](int v) { return std::abs(dev[static_cast<std::size_t>(v)][static_cast<std::size_t>(across)] - level) < 1e-9; })) {
           Tri tri{k, {}};
           for (int j = 0; j < 3; ++j)
             tri.uv[j] = {dev[static_cast<std::size_t>(k[j])][0], dev[static_cast<std::size_t>(k[j])][static_cast<std::size_t>(3 - across)]};
           // A triangle across the seam at A = 0 made whole (A may leave [0, ring)).
           for (int j = 1; j < 3; ++j) tri.uv[j][0] = tri.uv[0][0] + std::remainder(tri.uv[j][0] - tri.uv[0][0], e.ring);
-          faces_[face].push_back(tri);
+          line.tris.push_back(tri);
         }
       }
     }
   }
 
-  /// The surface point of local coordinates x (after the b <-> c swap) of cube k, if x lies on one
-  /// of the round faces; nullopt otherwise.
+  /// The surface point of sector coordinates x (after the b <-> c swap) of sector k, if x lies on
+  /// the round faces; nullopt otherwise.
   std::optional<std::array<double, 3>> physical(int k, const std::array<double, 3>& x) const {
-    for (int face = 0; face < 4; ++face) {
-      const int across = 1 + face / 2;
-      if (std::abs(x[static_cast<std::size_t>(across)] - face % 2) > 1e-12) continue;
+    for (const Line& line : lines_) {
+      const int across = line.across;
+      if (std::abs(x[static_cast<std::size_t>(across)] - line.level) > 1e-12) continue;
       const double u = k + x[0], w = x[static_cast<std::size_t>(3 - across)];
       const Tri* best = nullptr;
       std::array<double, 3> best_b{};
       double best_min = -HUGE_VAL;
-      for (const Tri& t : faces_[face]) {
+      for (const Tri& t : line.tris) {
         std::array<std::array<double, 2>, 3> p = t.uv;
         // Moved by whole turns next to u (the seam at A = 0).
         const double shift = u + std::remainder(p[0][0] - u, ring_) - p[0][0];
@@ -90,7 +94,7 @@ class RingSurface {
         if (m > best_min) best_min = m, best = &t, best_b = b;
         if (m >= 0) break;
       }
-      if (!best || best_min < -1e-6) return std::nullopt;
+      if (!best || best_min < -1e-6) continue;  // on the line, not on its faces (a profile cell's inner face)
       Eigen::Vector3d y = Eigen::Vector3d::Zero();
       for (int j = 0; j < 3; ++j) y += std::clamp(best_b[static_cast<std::size_t>(j)], 0.0, 1.0) * physical_[static_cast<std::size_t>(best->v[static_cast<std::size_t>(j)])];
       y /= std::clamp(best_b[0], 0.0, 1.0) + std::clamp(best_b[1], 0.0, 1.0) + std::clamp(best_b[2], 0.0, 1.0);
@@ -104,8 +108,13 @@ class RingSurface {
     std::array<int, 3> v;
     std::array<std::array<double, 2>, 3> uv;  // developed (A, the other in-face coordinate)
   };
+  struct Line {
+    int across = 1;  // 1: b = level, 2: c = level
+    double level = 0;
+    std::vector<Tri> tris;
+  };
   int ring_ = 0;
-  std::array<std::vector<Tri>, 4> faces_;
+  std::vector<Line> lines_;
   std::vector<Eigen::Vector3d> physical_;
 };
 
@@ -148,6 +157,26 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
   } catch (const core::Json::exception& x) {
     throw core::InvalidInputError(in + ": malformed polycube.cells: " + x.what());
   }
+  if (pc.contains("profile") && !pc["profile"].is_null()) {  // a rectilinear cross section (embedding.h, Profile)
+    polycube::Profile& pr = e.profile;
+    try {
+      const core::Json& pj = pc["profile"];
+      pr.b = core::require(pj, "b", in).get<std::vector<double>>();
+      pr.c = core::require(pj, "c", in).get<std::vector<double>>();
+      pr.cells = core::require(pj, "cells", in).get<std::vector<std::array<int, 2>>>();
+    } catch (const core::Json::exception& x) {
+      throw core::InvalidInputError(in + ": malformed polycube.profile: " + x.what());
+    }
+    for (const auto* lines : {&pr.b, &pr.c}) {
+      bool ok = lines->size() >= 2 && lines->front() == 0 && lines->back() == 1;
+      for (std::size_t i = 1; ok && i < lines->size(); ++i) ok = (*lines)[i] > (*lines)[i - 1] + 1e-3;
+      if (!ok) throw core::InvalidInputError(in + ": polycube.profile grid lines must increase from 0 to 1, at least 1e-3 apart");
+    }
+    for (const auto& [i, j] : pr.cells)
+      if (i < 0 || j < 0 || i + 1 >= static_cast<int>(pr.b.size()) || j + 1 >= static_cast<int>(pr.c.size()))
+        throw core::InvalidInputError(in + ": polycube.profile has a cell outside its grid");
+    if (pr.cells.empty()) throw core::InvalidInputError(in + ": polycube.profile has no cells");
+  }
   r.surface = std::make_unique<RingSurface>(vm, e);
   if (pc.contains("cuts")) {  // files written before session 11 have none
     try {
@@ -162,13 +191,14 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
   }
   // The ring's local frame is right- or left-handed depending on the directions split chose; the
   // sign of the map's Jacobian at the first cube's centre (central differences) tells which.
+  // (The centre of the first profile cell: a profile's sector centre may lie outside it.)
   const double h = 0.05;
   std::array<Eigen::Vector3d, 3> d;
   for (int a = 0; a < 3; ++a) {
     std::array<double, 3> lo3{0.5, 0.5, 0.5}, hi3{0.5, 0.5, 0.5};
     lo3[a] -= h, hi3[a] += h;
-    const auto p = r.locate->physical(polycube::cell_point(e, 0, hi3));
-    const auto q = r.locate->physical(polycube::cell_point(e, 0, lo3));
+    const auto p = r.locate->physical(polycube::cell_point(e, 0, polycube::profile_to_sector(e.profile, 0, hi3)));
+    const auto q = r.locate->physical(polycube::cell_point(e, 0, polycube::profile_to_sector(e.profile, 0, lo3)));
     if (!p || !q) throw core::NumericalError(in + ": the first cube's centre is outside the volume map");
     d[a] = Eigen::Vector3d((*p)[0] - (*q)[0], (*p)[1] - (*q)[1], (*p)[2] - (*q)[2]);
   }
@@ -176,42 +206,63 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
   return r;
 }
 
-// Tori: every ring's cubes, numbered ring after ring; a = 0 and a = 1 are cross sections (shared
-// with the neighbouring cube), the other four faces lie on the surface. Rings are translated apart
-// in polycube space so their points never coincide.
+// Tori: every ring's cubes, numbered ring after ring (a ring with a profile: sector after sector,
+// the profile's cells in order within each); a = 0 and a = 1 are cross sections (shared with the
+// neighbouring cube), the faces without a neighbouring cell lie on the surface. Rings are
+// translated apart in polycube space so their points never coincide.
 tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& params) {
   const auto rings = std::make_shared<const std::vector<Ring>>(std::move(list));
   tmesh::PolycubeMaps m;
-  std::vector<std::pair<int, int>> cube;  // (ring, cube in ring)
-  bool cut = false;
-  for (const Ring& r : *rings) cut = cut || !r.cuts[1].empty() || !r.cuts[2].empty();
-  for (std::size_t r = 0; r < rings->size(); ++r)
-    for (int k = 0; k < (*rings)[r].embedding.ring; ++k) {
-      cube.emplace_back(static_cast<int>(r), k), m.boundary.push_back({0, 0, 1, 1, 1, 1});
-      if (!cut) continue;
+  struct Cube {
+    int ring, sector, cell;
+  };
+  std::vector<Cube> cube;
+  bool explicit_blocks = false;
+  for (const Ring& r : *rings) explicit_blocks = explicit_blocks || !r.cuts[1].empty() || !r.cuts[2].empty() || !r.embedding.profile.empty();
+  const int n = 1 << params.level;
+  for (std::size_t r = 0; r < rings->size(); ++r) {
+    const Ring& ring = (*rings)[r];
+    const polycube::Profile& pr = ring.embedding.profile;
+    std::vector<std::vector<tmesh::Block>> cell_blocks;
+    if (!pr.empty()) {
+      // One cube per cell and sector; the pillow wraps around the concave edges (pillow.h).
+      std::vector<std::array<int, 2>> cells = pr.cells;
+      if (ring.swap)
+        for (auto& c : cells) std::swap(c[0], c[1]);
+      cell_blocks = tmesh::profile_blocks(cells, n, params.pillow_layers);
+    } else if (explicit_blocks) {
       // Sharp curves inside faces lie on block faces: C0 there (Liu et al. §5.2, repeated knots).
-      std::array<std::vector<double>, 3> cuts = (*rings)[r].cuts;
-      if ((*rings)[r].swap) std::swap(cuts[1], cuts[2]);
-      const int n = 1 << params.level;
-      m.blocks.push_back(tmesh::cube_blocks(m.boundary.back(), {n, n, n}, params.pillow_layers, cuts));
+      std::array<std::vector<double>, 3> cuts = ring.cuts;
+      if (ring.swap) std::swap(cuts[1], cuts[2]);
+      cell_blocks = {tmesh::cube_blocks({0, 0, 1, 1, 1, 1}, {n, n, n}, params.pillow_layers, cuts)};
     }
-  auto local = [rings, cube](int c, std::array<double, 3> abc) {
-    const auto [r, k] = cube.at(static_cast<std::size_t>(c));
-    const Ring& ring = (*rings)[static_cast<std::size_t>(r)];
+    const int cells = pr.empty() ? 1 : static_cast<int>(pr.cells.size());
+    for (int k = 0; k < ring.embedding.ring; ++k)
+      for (int c = 0; c < cells; ++c) {
+        cube.push_back({static_cast<int>(r), k, c}), m.boundary.push_back({0, 0, 1, 1, 1, 1});
+        if (explicit_blocks) m.blocks.push_back(cell_blocks[static_cast<std::size_t>(c)]);
+      }
+  }
+  // Sector coordinates of cube c's parameters.
+  auto sector = [rings, cube](int c, std::array<double, 3> abc) {
+    const Cube& q = cube.at(static_cast<std::size_t>(c));
+    const Ring& ring = (*rings)[static_cast<std::size_t>(q.ring)];
     if (ring.swap) std::swap(abc[1], abc[2]);
-    return std::make_pair(r, polycube::cell_point(ring.embedding, k, abc));
+    return polycube::profile_to_sector(ring.embedding.profile, q.cell, abc);
+  };
+  auto local = [rings, cube, sector](int c, const std::array<double, 3>& abc) {
+    const Cube& q = cube.at(static_cast<std::size_t>(c));
+    return std::make_pair(q.ring, polycube::cell_point((*rings)[static_cast<std::size_t>(q.ring)].embedding, q.sector, sector(c, abc)));
   };
   m.polycube = [local](int c, const tmesh::Vec3& abc) {
     auto [r, x] = local(c, abc);
     x[0] += 10.0 * r;  // the round ring's radius is 2
     return x;
   };
-  m.physical = [local, rings, cube](int c, const tmesh::Vec3& abc) {
+  m.physical = [local, rings, cube, sector](int c, const tmesh::Vec3& abc) {
     const auto [r, x] = local(c, abc);
     const Ring& ring = (*rings)[static_cast<std::size_t>(r)];
-    std::array<double, 3> y = abc;
-    if (ring.swap) std::swap(y[1], y[2]);
-    if (const auto s = ring.surface->physical(cube.at(static_cast<std::size_t>(c)).second, y)) return *s;
+    if (const auto s = ring.surface->physical(cube.at(static_cast<std::size_t>(c)).sector, sector(c, abc))) return *s;
     const auto p = ring.locate->physical(x);
     if (!p) throw core::NumericalError("tmesh: cube " + std::to_string(c) + " point outside the volume map");
     return *p;

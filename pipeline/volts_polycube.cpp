@@ -172,6 +172,7 @@ void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const
     polycube::PatchMapParams pp;
     pp.weights = ctx.config.polycube.weights;
     pp.sharp_lines = ctx.config.polycube.sharp_lines;
+    pp.profile = ctx.config.polycube.profile;
     m = polycube::map_torus_surface(d, pp);
   }
   {

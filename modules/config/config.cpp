@@ -211,6 +211,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("smooth_sweeps", c.polycube.smooth_sweeps, 0, 10000);
     s.get("smooth_below_ratio", c.polycube.smooth_below_ratio, 0.0, 1.0);
     s.get("sharp_lines", c.polycube.sharp_lines);
+    s.get("profile", c.polycube.profile, {"auto", "square"});
     s.finish();
   }
   {
@@ -374,7 +375,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "tet_max_volume_rel" << YAML::Value << c.polycube.tet_max_volume_rel;
   e << YAML::Key << "smooth_sweeps" << YAML::Value << c.polycube.smooth_sweeps;
   e << YAML::Key << "smooth_below_ratio" << YAML::Value << c.polycube.smooth_below_ratio;
-  e << YAML::Key << "sharp_lines" << YAML::Value << c.polycube.sharp_lines << YAML::EndMap;
+  e << YAML::Key << "sharp_lines" << YAML::Value << c.polycube.sharp_lines;
+  e << YAML::Key << "profile" << YAML::Value << c.polycube.profile << YAML::EndMap;
   e << YAML::Key << "tmesh" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "level" << YAML::Value << c.tmesh.level;
   e << YAML::Key << "degree" << YAML::Value << c.tmesh.degree;

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "core/errors.h"
+#include "core/log.h"
 #include "viz/viz.h"
 
 namespace volts::polycube {
@@ -363,6 +364,27 @@ std::array<std::vector<double>, 3> straighten_sharp_curves(const split::Decompos
 
 TorusSurfaceMap map_torus_surface(const split::Decomposition& input, const PatchMapParams& params) {
   TorusSurfaceMap m;
+  if (params.profile != "auto" && params.profile != "square")
+    throw core::ConfigError("polycube.profile must be 'auto' or 'square', not '" + params.profile + "'");
+  // Only faces of several patches can hide a concave corner (a smooth torus skips the attempt).
+  const bool several = std::any_of(input.components.begin(), input.components.end(), [](const split::Component& c) {
+    return std::any_of(c.faces.begin(), c.faces.end(), [](const split::CubeFace& f) { return f.patches.size() > 1; });
+  });
+  if (params.profile == "auto" && several) {
+    const auto maps = map_patches(input, params);
+    std::string why;
+    if (auto e = embed_profile_ring(input, maps, why)) {
+      m.embedding = std::move(*e);
+      for (const auto& p : maps) {
+        m.flipped_surface_triangles += p.flipped_triangles;
+        m.max_angle_distortion_deg = std::max(m.max_angle_distortion_deg, p.max_angle_distortion_deg);
+      }
+      core::log("polycube: rectilinear cross section with " + std::to_string(m.embedding.profile.concave_corners) + " concave corners: " +
+                std::to_string(m.embedding.profile.cells.size()) + " cubes per sector");
+      return m;
+    }
+    core::log_verbose("polycube: square cross section (" + why + ")");
+  }
   const split::Decomposition d = merge_face_patches(input);
   auto maps = map_patches(d, params);
   m.embedding = embed_torus(d, maps);
@@ -388,6 +410,11 @@ core::Json to_json(const TorusSurfaceMap& m) {
                     {"cells", cells},
                     {"corner_vertex", m.embedding.corner_vertex},
                     {"cuts", m.cuts},
+                    {"profile", m.embedding.profile.empty() ? core::Json() : core::Json{{"b", m.embedding.profile.b},
+                                                                                            {"c", m.embedding.profile.c},
+                                                                                            {"cells", m.embedding.profile.cells},
+                                                                                            {"polygon", m.embedding.profile.polygon},
+                                                                                            {"concave_corners", m.embedding.profile.concave_corners}}},
                     {"flipped_surface_triangles", m.flipped_surface_triangles},
                     {"max_angle_distortion_deg", m.max_angle_distortion_deg}};
 }

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,19 @@
 
 namespace volts::polycube {
 
+/// The cross section of a ring whose sharp curves meet at right angles, convex and concave (the
+/// washer's plus sign; Liu et al. §4.2, a union of torus primitives, Fig. 6(c)): a rectilinear
+/// polygon in the sector's (b, c) square, cut by the lines through its sides into grid cells. Each
+/// cell times each sector is one cube of the polycube, so every sharp curve lies on a cube edge:
+/// convex ones at 90°, concave ones at 270°, none flattened inside a face. Empty: the square.
+struct Profile {
+  std::vector<double> b, c;               ///< grid lines, increasing, first 0 and last 1
+  std::vector<std::array<int, 2>> cells;  ///< cells (i, j) = [b_i, b_i+1] x [c_j, c_j+1] inside the polygon
+  std::vector<std::array<double, 2>> polygon;  ///< the polygon's corners (b, c), counter-clockwise
+  int concave_corners = 0;
+  bool empty() const { return cells.empty(); }
+};
+
 struct Embedding {
   int ring = 0;                                                 ///< cubes around the ring
   bool mirrored = false;                                        ///< height reversed (c -> 1 - c) to keep the surface's orientation
@@ -32,6 +46,7 @@ struct Embedding {
   /// Max distance between the round annulus and the surface triangles drawn on it (the chords'
   /// sagitta, sampled at edge midpoints): point location must snap points up to this far.
   double boundary_gap = 0;
+  Profile profile;  ///< the cross section (empty: the square [0,1]^2)
 };
 
 /// Embeds a decomposition of one torus whose cube faces are single patches or cross sections,
@@ -42,6 +57,10 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
 
 /// The embedding point of local coordinates abc in component k (polar in its sector).
 std::array<double, 3> cell_point(const Embedding& e, int component, const std::array<double, 3>& abc);
+
+/// Sector coordinates of local coordinates abc of profile cell `cell` (an index into
+/// e.profile.cells; with an empty profile, abc itself).
+std::array<double, 3> profile_to_sector(const Profile& p, int cell, const std::array<double, 3>& abc);
 
 /// The decomposition with every cube face tiled by several patches (sharp curves inside a face,
 /// e.g. the washer's chamfers) made one patch: the union of their triangles, its corners the
@@ -62,14 +81,23 @@ split::Decomposition merge_face_patches(const split::Decomposition& d);
 /// Faces whose patches are not strips like this, or rings whose faces have different numbers of
 /// lines, keep the merged map (and no cuts).
 struct TorusSurfaceMap {
-  Embedding embedding;
+  Embedding embedding;  ///< with a profile if the ring's cross section is rectilinear with concave corners (params.profile)
   int flipped_surface_triangles = 0;
   double max_angle_distortion_deg = 0;
   std::array<std::vector<double>, 3> cuts;
 };
 TorusSurfaceMap map_torus_surface(const split::Decomposition& d, const PatchMapParams& params);
 
-/// Stage-file payload: {"kind": "torus", "ring", "mirrored", "cells", "corner_vertex", "points", "cuts", figures}.
+/// A rectilinear cross section (see Profile), if `d` is one torus whose cross sections' sharp
+/// corners all turn by 90° (within 35°), at least one of them concave, and the same in every
+/// cross section; nullopt otherwise, with the reason in `why`. The surface map puts every patch
+/// (one side of the cross section times one sector) on its side of the polygon times the sector:
+/// the sides by arc length, the side lengths those of the surface (mean over the cross sections),
+/// lines closer than 5 % of the extent merged.
+std::optional<Embedding> embed_profile_ring(const split::Decomposition& d, const std::vector<PatchMap>& maps, std::string& why);
+
+/// Stage-file payload: {"kind": "torus", "ring", "mirrored", "cells", "corner_vertex", "points", "cuts",
+/// "profile" (if any: {"b", "c", "cells", "polygon", "concave_corners"}), figures}.
 core::Json to_json(const TorusSurfaceMap& m);
 
 /// ParaView view: the segmented surface (fill triangles included) with the embedding point moved

@@ -30,6 +30,9 @@ struct PatchMapParams {
   /// Tori: sharp curves inside cube faces on straight lines, for C0 block faces there
   /// (TorusSurfaceMap::cuts); off: such faces are mapped as one patch (the spline is C2 across).
   bool sharp_lines = false;
+  /// Tori whose cross section is rectilinear with concave sharp corners (the washer): "auto" maps
+  /// them onto a ring of that profile (embed_profile_ring), "square" onto the square ring.
+  std::string profile = "auto";
 };
 
 /// 2D positions of the vertices of `triangles` (layout ids): those in `fixed` where they are given,

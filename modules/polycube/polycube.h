@@ -36,6 +36,10 @@ struct Params {
   /// (PatchMapParams::sharp_lines). Off by default: on the washer it lowered the valid elements
   /// (docs/status.md, session 11).
   bool sharp_lines = false;
+  /// Tori whose cross section is rectilinear with concave sharp corners (the washer's plus sign):
+  /// "auto" maps them onto a ring of that profile, one cube per grid cell and sector
+  /// (embed_profile_ring); "square" onto the square ring.
+  std::string profile = "auto";
 };
 
 /// The polycube (so far one unit cube) and the surface map onto it.

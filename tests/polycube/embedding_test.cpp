@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <set>
 
 #include "classify/classify.h"
 #include "core/errors.h"
@@ -107,13 +108,72 @@ TEST(Embedding, FacesOfSeveralPatchesAreMergedIntoOneQuadPatch) {
     }
   for (std::size_t t = 0; t < covered.size(); ++t) EXPECT_EQ(covered[t], 1) << "triangle " << t;
   // The merged decomposition maps with every vertex at one point and no flipped triangle.
-  const auto sm = polycube::map_torus_surface(d, {});
+  polycube::PatchMapParams square;
+  square.profile = "square";
+  const auto sm = polycube::map_torus_surface(d, square);
   EXPECT_EQ(sm.flipped_surface_triangles, 0);
   EXPECT_LT(sm.embedding.max_mismatch, 1e-12);
 }
 
 // The washer's default volume map: untangling parks one interior vertex on another (an edge whose
 // link alternates with vertices of the planar top face); collapsing that edge leaves no flat tet.
+// The washer's cross section is a plus sign (Liu et al. §4.2, a union of torus primitives): the
+// profile embedding makes it 5 grid cells, every sharp ring at a corner of the polygon (on a cube
+// edge, not inside a face), every surface vertex on the polygon's sides, the cells' widths those
+// of the part (flange and hub about 0.2 wide each, so thirds).
+TEST(Embedding, WasherCrossSectionIsAPlusOfFiveCells) {
+  const auto m = model("loopycuts_mechanical08_rem.obj");
+  const auto c = classify::classify(m, {});
+  const auto d = split::split(m, c, {});
+  std::string why;
+  const auto e = polycube::embed_profile_ring(d, polycube::map_patches(d, {}), why);
+  ASSERT_TRUE(e) << why;
+  const auto& pr = e->profile;
+  EXPECT_EQ(pr.concave_corners, 4);
+  ASSERT_EQ(pr.polygon.size(), 12u);
+  ASSERT_EQ(pr.b.size(), 4u);
+  ASSERT_EQ(pr.c.size(), 4u);
+  for (int k = 1; k < 3; ++k) {
+    EXPECT_NEAR(pr.b[static_cast<std::size_t>(k)], k / 3.0, 0.03);
+    EXPECT_NEAR(pr.c[static_cast<std::size_t>(k)], k / 3.0, 0.03);
+  }
+  std::set<std::array<int, 2>> cells(pr.cells.begin(), pr.cells.end());
+  EXPECT_EQ(cells, (std::set<std::array<int, 2>>{{1, 0}, {0, 1}, {1, 1}, {2, 1}, {1, 2}}));
+  EXPECT_LT(e->max_mismatch, 1e-12);
+  // (b, c) of every embedded vertex; on a side of the polygon, and at a corner if on a sharp curve.
+  auto bc = [&](const std::array<double, 3>& p) {
+    return std::array<double, 2>{std::hypot(p[0], p[1]) - 1, e->mirrored ? 1 - p[2] : p[2]};
+  };
+  auto distance_to = [&](const std::array<double, 2>& x, bool corners_only) {
+    double best = HUGE_VAL;
+    for (std::size_t i = 0; i < pr.polygon.size(); ++i) {
+      const auto &p = pr.polygon[i], &q = pr.polygon[(i + 1) % pr.polygon.size()];
+      if (corners_only) {
+        best = std::min(best, std::hypot(x[0] - p[0], x[1] - p[1]));
+        continue;
+      }
+      const double t = std::clamp(((x[0] - p[0]) * (q[0] - p[0]) + (x[1] - p[1]) * (q[1] - p[1])) /
+                                       ((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1])), 0.0, 1.0);
+      best = std::min(best, std::hypot(x[0] - p[0] - t * (q[0] - p[0]), x[1] - p[1] - t * (q[1] - p[1])));
+    }
+    return best;
+  };
+  double off_side = 0, off_corner = 0;
+  for (const auto& p : e->points) off_side = std::max(off_side, distance_to(bc(p), false));
+  int sharp = 0;
+  for (const auto& curve : c.curves)  // input vertex ids are layout ids
+    for (const int v : curve.vertices) ++sharp, off_corner = std::max(off_corner, distance_to(bc(e->points.at(static_cast<std::size_t>(v))), true));
+  EXPECT_LT(off_side, 1e-12);
+  EXPECT_EQ(c.curves.size(), 12u);
+  EXPECT_GE(sharp, 12 * 60);
+  EXPECT_LT(off_corner, 1e-12);
+  // Not a plus: a smooth torus has no concave corner and keeps the square.
+  const auto t = model("torus");
+  const auto dt = split::split(t, classify::classify(t, {}), {});
+  EXPECT_FALSE(polycube::embed_profile_ring(dt, polycube::map_patches(dt, {}), why));
+  EXPECT_TRUE(polycube::map_torus_surface(dt, {}).embedding.profile.empty());
+}
+
 TEST(Embedding, WasherVolumeMapIsOneToOne) {
   const auto m = model("loopycuts_mechanical08_rem.obj");
   const auto d = split::split(m, classify::classify(m, {}), {});
@@ -146,6 +206,7 @@ TEST(Embedding, WasherSharpCurvesInsideFacesLieOnStraightLines) {
   };
   polycube::PatchMapParams pp;
   pp.sharp_lines = true;
+  pp.profile = "square";
   const auto sm = polycube::map_torus_surface(d, pp);
   EXPECT_EQ(sm.flipped_surface_triangles, 0);
   EXPECT_LT(sm.embedding.max_mismatch, 1e-12);
@@ -161,7 +222,8 @@ TEST(Embedding, WasherSharpCurvesInsideFacesLieOnStraightLines) {
   const int straight = on_lines(sm, sm.cuts);
   EXPECT_GE(straight, 8 * 61);
   // Off, the same heights hold (almost) no vertex: the lines are the straightening's doing.
-  const auto merged = polycube::map_torus_surface(d, {});
+  pp.sharp_lines = false;
+  const auto merged = polycube::map_torus_surface(d, pp);
   EXPECT_TRUE(merged.cuts[1].empty() && merged.cuts[2].empty());
   EXPECT_LT(on_lines(merged, sm.cuts), straight / 10);
 }

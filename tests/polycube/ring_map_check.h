@@ -42,15 +42,26 @@ inline void expect_all_located(const LocateCounts& c) {
 }
 
 /// No flipped tet, a positive smallest volume ratio, the tets' volume that of the solid, the round ring's volume up to its chords, and
-/// one-to-one: 2,000 random points of the `cubes` cubes' sectors (kept off the chords of the round ring)
-/// lie in exactly one mapped tet and map inside the solid `rd` bounds (fills included).
+/// one-to-one: 2,000 random points of the `cubes` cubes' sectors (of their profile cells if the
+/// embedding has a profile; kept off the chords of the round ring) lie in exactly one mapped tet
+/// and map inside the solid `rd` bounds (fills included).
 inline void expect_ring_map_one_to_one(const split::Decomposition& rd, const polycube::Embedding& e, const volmap::VolumeMap& vm,
                                        unsigned seed, int cubes = 4) {
   EXPECT_EQ(vm.flipped_tets, 0) << vm.flipped_tets_before_untangling << " before untangling";
   EXPECT_GT(vm.min_volume_ratio, 0);
-  // The domain is the round ring (radius 1 to 2, height 1: volume 3π, area 12π) up to its chords.
-  EXPECT_LE(vm.parameter_volume, 3 * M_PI);
-  EXPECT_GE(vm.parameter_volume, 3 * M_PI - 12 * M_PI * e.boundary_gap);
+  // The domain is the round ring of the cross section (radius 1 + b, height c; the square: volume
+  // 3π, area 12π) up to its chords. Volume and area by Pappus: 2π times the moments about the axis.
+  std::vector<std::array<double, 2>> polygon = e.profile.empty() ? std::vector<std::array<double, 2>>{{0, 0}, {1, 0}, {1, 1}, {0, 1}} : e.profile.polygon;
+  double volume = 0, area = 0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const auto &p = polygon[i], &q = polygon[(i + 1) % polygon.size()];
+    const double rp = 1 + p[0], rq = 1 + q[0];
+    volume += M_PI * (rp * rp + rp * rq + rq * rq) / 3 * (q[1] - p[1]);  // 2π ∮ r²/2 dz (Green)
+    area += M_PI * (rp + rq) * std::hypot(q[0] - p[0], q[1] - p[1]);
+  }
+  volume = std::abs(volume);
+  EXPECT_LE(vm.parameter_volume, volume * (1 + 1e-12));
+  EXPECT_GE(vm.parameter_volume, volume - area * e.boundary_gap);
 
   Eigen::Vector3d lo = vm.parameter.at(0), hi = lo;
   for (const auto& p : vm.parameter) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
@@ -66,7 +77,24 @@ inline void expect_ring_map_one_to_one(const split::Decomposition& rd, const pol
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0), w(margin, 1 - margin);
   LocateCounts c;
-  for (int k = 0; k < 2000; ++k) locate_point(locate, inside, polycube::cell_point(e, k % cubes, {u(rng), w(rng), w(rng)}), c);
+  const int cells = e.profile.empty() ? 1 : static_cast<int>(e.profile.cells.size());
+  for (int k = 0; k < 2000; ++k) {
+    std::array<double, 3> x{u(rng), w(rng), w(rng)};
+    // With a profile: a point of a random cell at least `margin` from the polygon's sides (its chords).
+    for (bool near = !e.profile.empty(); near;) {
+      const auto [i, j] = e.profile.cells[static_cast<std::size_t>(k / cubes % cells)];
+      const auto &b = e.profile.b, &cc = e.profile.c;
+      x[1] = b[static_cast<std::size_t>(i)] + u(rng) * (b[static_cast<std::size_t>(i) + 1] - b[static_cast<std::size_t>(i)]);
+      x[2] = cc[static_cast<std::size_t>(j)] + u(rng) * (cc[static_cast<std::size_t>(j) + 1] - cc[static_cast<std::size_t>(j)]);
+      near = false;
+      for (std::size_t s = 0; s < polygon.size(); ++s) {
+        const auto &p = polygon[s], &q = polygon[(s + 1) % polygon.size()];  // axis-parallel sides
+        near = near || (std::abs(x[1] - std::clamp(x[1], std::min(p[0], q[0]), std::max(p[0], q[0]))) < margin &&
+                        std::abs(x[2] - std::clamp(x[2], std::min(p[1], q[1]), std::max(p[1], q[1]))) < margin);
+      }
+    }
+    locate_point(locate, inside, polycube::cell_point(e, k % cubes, x), c);
+  }
   expect_all_located(c);
 }
 
