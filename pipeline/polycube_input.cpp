@@ -316,7 +316,13 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
         for (const auto& ring : list) rings.push_back(read_ring(in, core::require(ring, "polycube", in), core::require(ring, "volume_map", in)));
       }
     }
-    r.maps = ring_maps(std::move(rings), params);
+    try {
+      r.maps = ring_maps(std::move(rings), params);
+    } catch (const core::InvalidInputError& e) {  // a profile tmesh cannot lay blocks on (tmesh::profile_blocks)
+      throw core::InvalidInputError(in + ": polycube.profile: " + e.what());
+    } catch (const core::TopologyError& e) {
+      throw core::TopologyError(in + ": polycube.profile: " + e.what());
+    }
     return r;
   }
   if (kind == "difference") {

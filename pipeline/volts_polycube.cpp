@@ -207,6 +207,9 @@ core::Json torus(pipeline::StageContext& ctx, const core::Json& j, const split::
                         [&](const std::string& path, bool mapped) { polycube::write_torus_vtp(path, d, m, mapped); });
   r["flipped_surface_triangles"] = m.flipped_surface_triangles;
   r["max_angle_distortion_deg"] = m.max_angle_distortion_deg;
+  // A rectilinear cross section: cubes per sector (grid cells) and its concave corners; 1 and 0 for the square.
+  r["profile_cells"] = m.embedding.profile.empty() ? 1 : static_cast<int>(m.embedding.profile.cells.size());
+  r["concave_corners"] = m.embedding.profile.concave_corners;
   return r;
 }
 

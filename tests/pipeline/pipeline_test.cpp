@@ -235,6 +235,29 @@ TEST(Pipeline, TorusRunsEndToEndAsARingOfFourCubes) {
   EXPECT_GT(x["min_scaled_jacobian"].get<double>(), 0.2);
 }
 
+TEST(Pipeline, WasherRunsEndToEndAsAPlusProfileRing) {
+  // Issue 8's done-when on the washer (loopycuts_mechanical08_rem, defaults): its cross section is
+  // a plus sign, so polycube maps it onto a ring of 5 cells x 4 sectors with every sharp ring on a
+  // cube edge; tmesh pillows the 20 cubes with the pillow wrapping around the 4 concave edges.
+  // Mapped onto the square ring instead, 786 of 3,072 elements were not valid (session 11).
+  const fs::path d = test::fresh_dir("pipeline", "washer_run");
+  test::write_text(d / "run.yaml", "input: {file: " + std::string(VOLTS_SHARED_MODELS) + "/loopycuts_mechanical08_rem.obj}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const core::Json rep = core::read_report((d / "w").string());
+  const core::Json& p = rep["stages"]["polycube"];
+  EXPECT_EQ(p["profile_cells"], 5);
+  EXPECT_EQ(p["concave_corners"], 4);
+  EXPECT_EQ(p["flipped_tets"], 0);
+  EXPECT_EQ(rep["stages"]["tmesh"]["cubes"], 20);
+  const core::Json& x = rep["stages"]["extract"];
+  EXPECT_EQ(x["certified_valid"], x["bezier_elements"]);
+  EXPECT_EQ(x["undecided"], 0);
+  EXPECT_GT(x["min_scaled_jacobian"].get<double>(), 0.0);
+  EXPECT_LT(x["hausdorff_rel"].get<double>(), 0.005);
+  EXPECT_LT(x["volume_rel_error"].get<double>(), 0.005);
+}
+
 TEST(Pipeline, SharpCornersStayAtTheirInputPositionsThroughTheTMesh) {
   // Issue 7's done-when: the sharp corners of the generated box and cube-with-hole are corners of
   // the spline (a clamped block's corner control point is its corner) at their input positions to

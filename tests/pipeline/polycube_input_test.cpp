@@ -117,5 +117,51 @@ TEST(PolycubeInput, RingCutsBecomeBlockFacesAndBadCutsNameTheFile) {
   }
 }
 
+TEST(PolycubeInput, ProfileRingsHaveACubePerCellAndSectorAndBadProfilesNameTheFile) {
+  // polycube.profile (a rectilinear cross section, embedding.h): one cube per grid cell and
+  // sector, blocks from tmesh::profile_blocks. A plus profile injected into the torus's file lies
+  // inside its square ring, so every point still has an image: the centre cell's centre is the
+  // square sector's centre.
+  const std::string file = torus_polycube_file("polycube_input_profile");
+  ASSERT_FALSE(file.empty());
+  core::Json j = core::read_stage_file(file, "volts-polycube", 2);
+  EXPECT_TRUE(j["polycube"]["profile"].is_null());  // the torus keeps the square
+  const pipeline::PolycubeInput square = pipeline::read_polycube_input(file, tmesh::Params{});
+  j["polycube"]["profile"] = core::Json::parse(R"({"b": [0, 0.3, 0.7, 1], "c": [0, 0.25, 0.75, 1],
+                                                   "cells": [[1, 0], [0, 1], [1, 1], [2, 1], [1, 2]]})");
+  const std::string plus = (fs::path(file).parent_path() / "plus.json").string();
+  test::write_text(plus, j.dump());
+  const pipeline::PolycubeInput in = pipeline::read_polycube_input(plus, tmesh::Params{});
+  ASSERT_EQ(in.maps.blocks.size(), 20u);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(in.maps.blocks[static_cast<std::size_t>(5 * k + 2)].size(), 9u);  // the centre: 3 x 3 columns
+    EXPECT_EQ(in.maps.blocks[static_cast<std::size_t>(5 * k)].size(), 4u);      // an arm: core + 3 slabs
+    const tmesh::Vec3 a = in.maps.physical(5 * k + 2, {0.5, 0.5, 0.5}), b = square.maps.physical(k, {0.5, 0.5, 0.5});
+    EXPECT_LT(std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]), 1e-12);
+    // Neighbouring cells meet: the centre's face toward an arm is the arm's face toward it.
+    const tmesh::Vec3 p = in.maps.polycube(5 * k + 2, {0.5, 0, 0.5}), q = in.maps.polycube(5 * k + 2, {0.5, 1, 0.5});
+    bool met_p = false, met_q = false;
+    for (const int arm : {0, 1, 3, 4})
+      for (const tmesh::Vec3 x : {tmesh::Vec3{0.5, 0, 0.5}, tmesh::Vec3{0.5, 1, 0.5}, tmesh::Vec3{0.5, 0.5, 0}, tmesh::Vec3{0.5, 0.5, 1}}) {
+        const tmesh::Vec3 y = in.maps.polycube(5 * k + arm, x);
+        met_p = met_p || std::hypot(y[0] - p[0], y[1] - p[1], y[2] - p[2]) < 1e-12;
+        met_q = met_q || std::hypot(y[0] - q[0], y[1] - q[1], y[2] - q[2]) < 1e-12;
+      }
+    EXPECT_TRUE(met_p && met_q);
+  }
+  for (const char* bad : {R"({"b": [0, 0.5, 1], "c": [0, 1], "cells": [[2, 0]]})", R"({"b": [0, 0.5], "c": [0, 1], "cells": [[0, 0]]})",
+                          R"({"b": [0, 1], "c": [0, 1], "cells": []})", R"({"b": 1})"}) {
+    j["polycube"]["profile"] = core::Json::parse(bad);
+    test::write_text(plus, j.dump());
+    try {
+      pipeline::read_polycube_input(plus, tmesh::Params{});
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const core::InvalidInputError& e) {
+      EXPECT_NE(std::string(e.what()).find(plus), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("profile"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace volts
