@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -43,6 +44,16 @@ constexpr double kRingCentreZ = 0.95;  // its tube's centre circle dips 0.1 belo
 constexpr double kConeRadius = 1.0;
 constexpr double kConeBase = -0.5;
 constexpr double kConeApex = 1.0;
+
+/// A cross section in the (r, z) half-plane: its corners, counter-clockwise (r to the right, z up).
+using Profile = std::vector<std::array<double, 2>>;
+/// washer: a plus sign, flange r in [0.7, 1.3], |z| <= 0.1, union hub r in [0.9, 1.1], |z| <= 0.3.
+const Profile kWasherProfile = {{0.7, -0.1}, {0.9, -0.1}, {0.9, -0.3}, {1.1, -0.3}, {1.1, -0.1}, {1.3, -0.1},
+                                {1.3, 0.1},  {1.1, 0.1},  {1.1, 0.3},  {0.9, 0.3},  {0.9, 0.1},  {0.7, 0.1}};
+/// flanged-ring: an L, tube wall r in [1, 1.2], z in [0, 0.6], union flange r in [1, 1.6], z in [0, 0.2].
+const Profile kFlangedRingProfile = {{1.0, 0.0}, {1.6, 0.0}, {1.6, 0.2}, {1.2, 0.2}, {1.2, 0.6}, {1.0, 0.6}};
+constexpr int kMinRevolutionSegments = 16;     // sectors turn 22.5 degrees at most: below the 30 degree feature angle
+constexpr double kMaxRimToSideRatio = 2.7;     // atan(1 / 2.7) = 20.3 degrees: the smallest triangle angle
 
 /// sin(pi j / n), exactly 0 at j = 0 and j = n (so box edges stay exactly straight) and symmetric in j.
 double sin_pi_fraction(int j, int n) {
@@ -307,6 +318,57 @@ Mesh make_cone(const ModelParams& p) {
   }, true);
   return soup.to_mesh("model 'cone'");
 }
+
+/// Segments around the axis of the solid of revolution of `profile`: the multiple of 4 at least
+/// `resolution` and 16, and enough that the outermost rim's segment is at most kMaxRimToSideRatio times the
+/// shortest profile side (a side of one segment then leaves no triangle angle below 20 degrees).
+int revolution_segments(const Profile& profile, int resolution) {
+  double r_out = 0.0, shortest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < profile.size(); ++k) {
+    const auto &a = profile[k], &b = profile[(k + 1) % profile.size()];
+    r_out = std::max(r_out, a[0]);
+    shortest = std::min(shortest, std::hypot(b[0] - a[0], b[1] - a[1]));
+  }
+  int n = 4 * ((std::max(resolution, kMinRevolutionSegments) + 3) / 4);
+  while (2 * r_out * std::sin(kPi / n) > kMaxRimToSideRatio * shortest) n += 4;
+  return n;
+}
+
+/// The solid of revolution about z of `profile` (corners counter-clockwise in the (r, z) half-plane, r > 0):
+/// revolution_segments(profile, resolution) sectors at the angles 2 pi i / n, each profile side split into
+/// equal segments of about the innermost rim's segment length (at least one). Vertices lie on the exact
+/// surface; every face is a planar quad (the sides are vertical or horizontal) split in two, outward.
+Mesh make_revolved_profile(const ModelParams& p, const Profile& profile) {
+  const int n = revolution_segments(profile, p.resolution);
+  double r_in = std::numeric_limits<double>::infinity();
+  for (const auto& c : profile) r_in = std::min(r_in, c[0]);
+  const double h = 2 * r_in * std::sin(kPi / n);
+  Profile points;  // the profile's corners and the points between them, counter-clockwise
+  for (std::size_t k = 0; k < profile.size(); ++k) {
+    const auto &a = profile[k], &b = profile[(k + 1) % profile.size()];
+    const int m = std::max(1, rounded(std::hypot(b[0] - a[0], b[1] - a[1]) / h));
+    for (int j = 0; j < m; ++j) {
+      const double t = static_cast<double>(j) / m;
+      points.push_back({a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t});
+    }
+  }
+  const int np = static_cast<int>(points.size());
+  Soup soup;
+  for (int i = 0; i < n; ++i)
+    for (const auto& [r, z] : points) {
+      const auto [c, s] = unit_circle(i, n);
+      soup.add(Point(r * c, r * s, z));
+    }
+  // Around the axis (d/d angle) then along the counter-clockwise profile: the outward normal.
+  const auto id = [&](int i, int k) -> std::size_t { return static_cast<std::size_t>((i % n) * np + k % np); };
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < np; ++k) soup.quad(id(i, k), id(i + 1, k), id(i + 1, k + 1), id(i, k + 1));
+  return soup.to_mesh("model '" + p.name + "'");
+}
+
+Mesh make_washer(const ModelParams& p) { return make_revolved_profile(p, kWasherProfile); }
+
+Mesh make_flanged_ring(const ModelParams& p) { return make_revolved_profile(p, kFlangedRingProfile); }
 
 /// Validates `mesh` and returns it with its vertices in lexicographic order and its faces sorted: the same
 /// geometry then always gives the same mesh, whatever order an algorithm produced it in (the Boolean's
@@ -598,6 +660,14 @@ const std::vector<Model>& models() {
        "plate [-2,2]x[-1.5,1.5]x[-0.25,0.25] with four through holes of radius 0.3 and a ring (radii 0.8, 0.3) "
        "standing on it (genus 5; Liu et al. 2013, Fig. 1)",
        make_assembly},
+      {"washer",
+       "ring about z, plus-shaped cross section: flange r 0.7..1.3, |z|<=0.1, hub r 0.9..1.1, |z|<=0.3 "
+       "(genus 1, 12 sharp rings)",
+       make_washer},
+      {"flanged-ring",
+       "ring about z, L-shaped cross section: wall r 1..1.2, z 0..0.6, flange r 1..1.6, z 0..0.2 "
+       "(genus 1, 6 sharp rings)",
+       make_flanged_ring},
   };
   return table;
 }

@@ -1,7 +1,7 @@
 // volts::models — generated test solids: closed, outward-oriented, manifold triangle meshes of
 // known volume, genus and sharp features, at any resolution (for tests, demos and benchmarks).
 //
-// Dimensions (lengths in model units, all centred at the origin):
+// Dimensions (lengths in model units, centred at the origin but for the flanged ring):
 //   box            [-1,1] x [-0.75,0.75] x [-0.5,0.5]; each face a regular grid of squares split in two.
 //   bulged-box     the box, each face pushed out by  a * sin(pi s) * sin(pi t)  (s, t in [0,1] across the
 //                  face, a = bulge * half the face's shorter side), so the 12 edges stay straight and sharp.
@@ -20,12 +20,24 @@
 //                  prisms inscribed in the cylinders, with a multiple of 4 sides of about the segment length.
 //                  Smallest triangle angle 20-25 degrees up to resolution 32; finer, slivers appear where the
 //                  ring meets the plate (17 degrees at 48, 7 at 64: the remesher keeps short edges there).
+//   washer         ring about z whose cross section in the (r, z) half-plane is a plus sign (a flanged washer):
+//                  flange r in [0.7,1.3], |z| <= 0.1, union hub r in [0.9,1.1], |z| <= 0.3; 12 sides, 8 convex
+//                  and 4 concave corners. Area 0.2, centroid at r = 1: volume 0.4 pi. Genus 1.
+//   flanged-ring   ring about z with an L-shaped cross section: tube wall r in [1,1.2], z in [0,0.6], union
+//                  flange r in [1,1.6], z in [0,0.2]; 6 sides, 5 convex and 1 concave corner. Volume
+//                  2 pi (0.12 x 1.1 + 0.08 x 1.4) = 0.488 pi. Genus 1.
+//                  Both: the profile revolved in n sectors (ModelParams::resolution), each side split into
+//                  equal segments of about the inner rim's segment length (at least one); every face is a planar
+//                  quad (the sides are vertical or horizontal) split in two, so the volume is exactly the
+//                  solid's times sin(2 pi / n) / (2 pi / n).
 // Curved surfaces are interpolated: vertices lie on the exact surface (the hole: on its prism; the
 // assembly's ring: on a torus polyhedron interpolating it, as remeshing projects onto it), so
 // volumes converge as O(1/resolution^2). Sharp edges (dihedral angle deviating from flat by more than
 // 30 degrees at resolution >= 16): the box-like models' edges, the hole's two rims, the cone's rim and
 // apex region, the assembly's plate edges, eight rims and the ring's foot (the closed curve where it
-// meets the top face, 55 to 130 degrees); torus and sphere have none.
+// meets the top face, 55 to 130 degrees); washer and flanged-ring: one ring of n edges (90 degrees) per
+// profile corner, 12 and 6 rings (every other edge turns 360 / n <= 22.5 degrees at most); torus and sphere
+// have none.
 #pragma once
 
 #include <string>
@@ -43,13 +55,17 @@ struct ModelParams {
   /// edges get 0.75 and 0.5 times as many, so all segments are equal when it is a multiple of 4.
   /// assembly: segment length 2 / resolution, as cube-with-hole's (the plate's long edge gets 2 x
   /// resolution segments, each hole about 0.94 x resolution sides, as many around the ring's tube).
+  /// washer, flanged-ring: n segments around the axis (its smallest circle is the inner rim), n the multiple
+  /// of 4 at least resolution and 16, and enough that the outer rim's segment is at most 2.7 times the
+  /// shortest profile side (0.2), so no triangle angle is below 20 degrees: washer n >= 16, flanged-ring
+  /// n >= 20.
   int resolution = 16;
   /// bulged-box only: outward bulge of each face centre relative to half the face's shorter side; in [0, 0.35].
   double bulge = 0.15;
 };
 
 /// Names of all models, in a fixed order: box, bulged-box, torus, cube-with-hole, sphere, tetrahedron, cone,
-/// assembly.
+/// assembly, washer, flanged-ring.
 std::vector<std::string> model_names();
 
 /// One line describing the model (for --help). Throws core::ConfigError for an unknown name.
