@@ -3,6 +3,7 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
 #include <algorithm>
+#include <set>
 #include <iterator>
 #include <cmath>
 #include <stdexcept>
@@ -231,7 +232,7 @@ void map_ids(Decomposition& sub, const Submesh& s) {
       for (int& v : f.corners) v = s.layout_vertex[v];
 }
 
-std::vector<int> fill_openings(Submesh& s, Layout& L) {
+std::vector<int> fill_openings(Submesh& s, Layout& L, bool no_chords) {
   namespace PMP = CGAL::Polygon_mesh_processing;
   std::vector<HI> borders;
   std::set<std::size_t> seen;
@@ -241,10 +242,32 @@ std::vector<int> fill_openings(Submesh& s, Layout& L) {
     for (auto g : CGAL::halfedges_around_face(h, s.mesh)) seen.insert(static_cast<std::size_t>(g));
   }
   const std::size_t old_vertices = s.mesh.number_of_vertices(), old_faces = s.mesh.number_of_faces();
+  std::set<Mesh::Vertex_index> rim;
+  for (auto h : borders)
+    for (auto g : CGAL::halfedges_around_face(h, s.mesh)) rim.insert(s.mesh.target(g));
   for (auto h : borders) {
     std::vector<Mesh::Face_index> faces;
     std::vector<Mesh::Vertex_index> verts;
     PMP::triangulate_and_refine_hole(s.mesh, h, std::back_inserter(faces), std::back_inserter(verts));
+  }
+  // Chords: edges between fill faces on both sides with both ends on a rim. Split each at its
+  // midpoint and join the new vertex to the two opposite corners.
+  for (bool changed = no_chords; changed;) {
+    changed = false;
+    for (auto h : s.mesh.halfedges()) {
+      const auto g = s.mesh.opposite(h);
+      const auto f = s.mesh.face(h), fo = s.mesh.face(g);
+      if (f == Mesh::null_face() || fo == Mesh::null_face() || static_cast<std::size_t>(f) < old_faces || static_cast<std::size_t>(fo) < old_faces) continue;
+      const auto a = s.mesh.source(h), b = s.mesh.target(h);
+      if (!rim.count(a) || !rim.count(b)) continue;
+      const auto pa = s.mesh.point(a), pb = s.mesh.point(b);
+      const HI hnew = CGAL::Euler::split_edge(h, s.mesh);  // a -> v (hnew), v -> b (h)
+      s.mesh.point(s.mesh.target(hnew)) = CGAL::midpoint(pa, pb);
+      CGAL::Euler::split_face(hnew, s.mesh.next(s.mesh.next(hnew)), s.mesh);
+      CGAL::Euler::split_face(s.mesh.opposite(h), s.mesh.next(s.mesh.next(s.mesh.opposite(h))), s.mesh);
+      changed = true;
+      break;
+    }
   }
   if (s.mesh.has_garbage()) throw std::logic_error("split: hole filling removed elements");
   // New vertices and faces come after the old ones.

@@ -72,7 +72,10 @@ void map_ids(Decomposition& sub, const Submesh& s);
 
 /// Fills every opening (border loop) of the submesh with triangles (CGAL's hole filling with
 /// refinement), appends the new vertices and triangles to the layout (flagged filled) and to the
-/// submesh's maps. Returns the new layout triangles.
-std::vector<int> fill_openings(Submesh& s, Layout& layout);
+/// submesh's maps. Returns the new layout triangles. With `no_chords`, every fill edge joining two
+/// vertices of an opening's rim that is not a rim edge is split at its midpoint (the fill is then
+/// a disk that maps one-to-one onto a square with its rim on the sides, Floater 2003: a chord
+/// between two points of one side would be flat).
+std::vector<int> fill_openings(Submesh& s, Layout& layout, bool no_chords = false);
 
 }  // namespace volts::split::detail
