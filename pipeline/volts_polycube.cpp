@@ -14,6 +14,7 @@
 #include "polycube/polycube.h"
 #include "polycube/rings.h"
 #include "polycube/structure.h"
+#include "tmesh/pillow.h"
 #include "volmap/volmap.h"
 #include "stage_main.h"
 #include "surface/mesh_json.h"
@@ -174,6 +175,16 @@ void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const
     pp.sharp_lines = ctx.config.polycube.sharp_lines;
     pp.profile = ctx.config.polycube.profile;
     m = polycube::map_torus_surface(d, pp);
+    // A profile tmesh cannot pillow conformingly (an L: its corner cell would need cuts) keeps the
+    // square ring, which runs, with the sharp curves flattened inside faces.
+    const polycube::Profile& pr = m.embedding.profile;
+    if (!pr.empty()) try {
+        tmesh::profile_blocks(pr.cells, 8, 1);
+      } catch (const core::TopologyError& e) {
+        core::log_warning(what + "the rectilinear cross section cannot be pillowed yet (" + e.what() + "): mapped onto the square ring");
+        pp.profile = "square";
+        m = polycube::map_torus_surface(d, pp);
+      }
   }
   {
     core::LogSection s(what + "volume map");
