@@ -369,13 +369,48 @@ std::vector<std::vector<Block>> profile_blocks(const std::vector<std::array<int,
       surface[i] = surface[i] || boundary[i][f];
     }
   }
+  // The cell across from cell i by (db, dc) on the grid, kNone if there is none.
+  auto cell_at = [&](std::size_t i, int db, int dc) {
+    const long long x = static_cast<long long>(cells[i][0]) + db, y = static_cast<long long>(cells[i][1]) + dc;
+    if (x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max() || y < std::numeric_limits<int>::min() ||
+        y > std::numeric_limits<int>::max())
+      return kNone;
+    const auto it = index.find({static_cast<int>(x), static_cast<int>(y)});
+    return it == index.end() ? kNone : it->second;
+  };
+  // Conformity: the faces two cells share, and each cell's a = 0 and a = 1 faces (the ring). An
+  // empty string if they conform, else why not.
+  auto nonconforming = [&](const std::vector<std::vector<Block>>& out) -> std::string {
+    for (std::size_t i = 0; i < count; ++i) {
+      if (!same_tiling(face_tiling(out[i], 0, 0), face_tiling(out[i], 0, 1)))
+        return "tmesh: profile cell " + cell_name(cells[i]) + ": its blocks tile its faces a = 0 and a = 1 differently, so the ring does not close";
+      for (std::size_t axis = 1; axis < 3; ++axis) {
+        const std::size_t m = nb[i][2 * axis + 1];
+        if (m == kNone) continue;
+        if (!same_tiling(face_tiling(out[i], axis, 1), face_tiling(out[m], axis, 0)))
+          return "tmesh: profile cells " + cell_name(cells[i]) + " and " + cell_name(cells[m]) + " do not conform with " +
+                 std::to_string(layers) + " pillow layer(s): their blocks tile the shared face (" + kAxisName[axis] +
+                 " = 1 of the first) differently; this pillow rule cannot take the profile (0 layers can)";
+      }
+    }
+    return {};
+  };
+
   std::vector<std::vector<Block>> out(count);
-  for (std::size_t i = 0; i < count; ++i)
-    if (surface[i] || layers == 0) out[i] = cube_blocks(boundary[i], {elements, elements, elements}, layers);
-  // Cells without a surface face: along d in {b, c}, cut where the slabs of the neighbours across
-  // the faces perpendicular to the other cross axis e end on the shared face, with their counts.
-  // Neighbours without a surface face have no slabs and ask for nothing.
-  if (layers > 0)
+  if (layers == 0) {
+    for (std::size_t i = 0; i < count; ++i) out[i] = cube_blocks(boundary[i], {elements, elements, elements}, 0);
+    const std::string why = nonconforming(out);
+    if (!why.empty()) throw core::TopologyError(why);
+    return out;
+  }
+
+  // Rule 1 (per cell): a cell with a surface face is its pillowed cube; a cell without one is cut
+  // along d in {b, c} where the slabs of the neighbours across the faces perpendicular to the
+  // other cross axis e end on the shared face, with their counts. Neighbours without a surface
+  // face have no slabs and ask for nothing. Fails (false) if two neighbours disagree.
+  auto per_cell = [&]() {
+    for (std::size_t i = 0; i < count; ++i)
+      if (surface[i]) out[i] = cube_blocks(boundary[i], {elements, elements, elements}, layers);
     for (std::size_t i = 0; i < count; ++i) {
       if (surface[i]) continue;
       std::array<std::vector<double>, 3> cuts;
@@ -392,9 +427,7 @@ std::vector<std::vector<Block>> profile_blocks(const std::vector<std::array<int,
           if (from == kNone) {
             from = m, want = got;
           } else if (!same_intervals(got, want)) {
-            throw core::TopologyError("tmesh: profile cells " + cell_name(cells[from]) + " and " + cell_name(cells[m]) +
-                                      " end their pillow slabs differently along " + kAxisName[d] + " on the faces of cell " +
-                                      cell_name(cells[i]) + " between them, which has no surface face to pillow and cannot be cut to match both");
+            return false;
           }
         }
         if (from == kNone) continue;
@@ -404,20 +437,55 @@ std::vector<std::vector<Block>> profile_blocks(const std::vector<std::array<int,
       }
       out[i] = cube_blocks({0, 0, 0, 0, 0, 0}, counts, 0, cuts);
     }
-  // Conformity: the faces two cells share, and each cell's a = 0 and a = 1 faces (the ring).
+    return true;
+  };
+  if (per_cell() && nonconforming(out).empty()) return out;
+
+  // Rule 2 (one sheet): every slab of the profile has the thickness p = layers h, h = 1 / (elements
+  // + 2 layers), and the cube's spacing along b and c is h everywhere (elements + (2 - surface
+  // faces along d) layers elements along d), so a slab has `layers` elements across and the part
+  // between two slab ends `elements`. Along d, cell i has a line at p (x_d = 1 - p) if its face
+  // (d, 0) (resp. (d, 1)) is on the surface (the slab's inner face) or a concave edge of the
+  // section runs along that side (the p x p column where the slabs of the two neighbours meet);
+  // since a cut crosses the whole cell, the lines along d are shared by the cells in a row along
+  // the other cross axis. A line where the cell's face is not on the surface is a cut (absolute
+  // position, converted to the core's parameter).
+  const double h = 1.0 / (elements + 2 * layers), p = layers * h;
+  std::vector<std::array<std::array<bool, 2>, 3>> line(count);
   for (std::size_t i = 0; i < count; ++i) {
-    if (!same_tiling(face_tiling(out[i], 0, 0), face_tiling(out[i], 0, 1)))
-      throw core::TopologyError("tmesh: profile cell " + cell_name(cells[i]) +
-                                ": its blocks tile its faces a = 0 and a = 1 differently, so the ring does not close");
-    for (std::size_t axis = 1; axis < 3; ++axis) {
-      const std::size_t m = nb[i][2 * axis + 1];
-      if (m == kNone) continue;
-      if (!same_tiling(face_tiling(out[i], axis, 1), face_tiling(out[m], axis, 0)))
-        throw core::TopologyError("tmesh: profile cells " + cell_name(cells[i]) + " and " + cell_name(cells[m]) +
-                                  " do not conform with " + std::to_string(layers) + " pillow layer(s): their blocks tile the shared face (" +
-                                  kAxisName[axis] + " = 1 of the first) differently; this pillow rule cannot take the profile (0 layers can)");
-    }
+    for (std::size_t d = 1; d < 3; ++d)
+      for (std::size_t s = 0; s < 2; ++s) line[i][d][s] = boundary[i][2 * d + s];
+    for (int s = 0; s < 2; ++s)
+      for (int t = 0; t < 2; ++t)
+        if (nb[i][2 + static_cast<std::size_t>(s)] != kNone && nb[i][4 + static_cast<std::size_t>(t)] != kNone &&
+            cell_at(i, s ? 1 : -1, t ? 1 : -1) == kNone)
+          line[i][1][static_cast<std::size_t>(s)] = line[i][2][static_cast<std::size_t>(t)] = true;
   }
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t i = 0; i < count; ++i)
+      for (std::size_t d = 1; d < 3; ++d)
+        for (std::size_t side = 0; side < 2; ++side) {
+          const std::size_t m = nb[i][2 * (3 - d) + side];
+          if (m == kNone) continue;
+          for (std::size_t s = 0; s < 2; ++s)
+            if (line[i][d][s] != line[m][d][s]) line[i][d][s] = line[m][d][s] = true, changed = true;
+        }
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    std::array<int, 3> n{elements, elements, elements};
+    std::array<std::vector<double>, 3> cuts;
+    for (std::size_t d = 1; d < 3; ++d) {
+      const int sides = boundary[i][2 * d] + boundary[i][2 * d + 1];
+      n[d] = elements + (2 - sides) * layers;
+      const double lo = boundary[i][2 * d] ? p : 0, hi = boundary[i][2 * d + 1] ? 1 - p : 1;
+      for (std::size_t s = 0; s < 2; ++s)
+        if (line[i][d][s] && !boundary[i][2 * d + s]) cuts[d].push_back(((s ? 1 - p : p) - lo) / (hi - lo));
+    }
+    out[i] = cube_blocks(boundary[i], n, layers, cuts);
+  }
+  const std::string why = nonconforming(out);
+  if (!why.empty()) throw core::TopologyError(why);
   return out;
 }
 

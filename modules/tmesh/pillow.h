@@ -63,20 +63,28 @@ std::vector<Block> difference_blocks(int axis, const Vec3& hole_lo, const Vec3& 
 /// (e.g. a washer with a plus-shaped section): per cell (same order as `cells`), the blocks of its
 /// cube in the cube's parameters (a, b, c), a along the ring (faces a = 0 and a = 1 are the same
 /// cell of the neighbouring sectors, never surface), b along the grid's axis 0, c along its axis 1;
-/// a b or c face is on the surface iff no cell lies across it. A cell with a surface face is
-/// cube_blocks(its surface faces, {elements, elements, elements}, layers). A cell without one (the
-/// plus's centre) gets no pillow of its own but is cut (cube_blocks with cuts, no layers) where
-/// its neighbours' slabs end on its faces, with the same element counts: the slabs of the cells
-/// around it continue through it, so the pillow is one sheet under the whole surface that wraps
-/// around the concave edges of the section instead of ending on them (Liu et al. 2013 §5.2,
-/// Fig. 9), and the blocks still meet face to face. layers == 0: every cell is its cube, which
-/// trivially conforms.
+/// a b or c face is on the surface iff no cell lies across it. layers == 0: every cell is its
+/// cube, which trivially conforms. With layers, two rules, the first that conforms:
+/// 1. Per cell: a cell with a surface face is cube_blocks(its surface faces, {elements, elements,
+///    elements}, layers). A cell without one (the plus's centre) gets no pillow of its own but is
+///    cut (cube_blocks with cuts, no layers) where its neighbours' slabs end on its faces, with
+///    the same element counts: the slabs of the cells around it continue through it, so the
+///    pillow is one sheet under the whole surface that wraps around the concave edges of the
+///    section instead of ending on them (Liu et al. 2013 §5.2, Fig. 9). Takes the plus, a row, a
+///    full rectangle; not an L, T or U, whose cells with surface faces would need cuts.
+/// 2. One sheet: every slab has the same thickness p = layers h, h = 1 / (elements + 2 layers),
+///    the spacing along b and c in every cell (cube_blocks(surface faces, {elements, elements +
+///    (2 - s_b) layers, elements + (2 - s_c) layers}, layers, cuts), s_d the cell's surface faces
+///    along d). Along d, a cell is cut at x_d = p (1 - p) if its face (d, 0) ((d, 1)) is not on
+///    the surface but a concave edge of the section runs along that side, where the cell keeps a
+///    p x p column that the neighbours' slabs meet (the pillow wraps around the edge); a cut
+///    crosses the whole cell, so the cells in a row along the other cross axis share their cuts.
+///    Takes every edge-connected profile.
 /// The result is checked: every face shared by two cells, and each cell's faces a = 0 and a = 1
 /// (glued around the ring), carry the same block faces with the same element counts on both sides.
 /// Throws core::ConfigError for elements < 1 or layers < 0; core::InvalidInputError if `cells` is
-/// empty, has a cell twice or is not edge-connected; core::TopologyError, naming the cells, for a
-/// section this rule cannot pillow conformingly (e.g. an L, whose corner cell has surface faces
-/// but would need cuts, or a cell without surface faces whose neighbours' slabs disagree).
+/// empty, has a cell twice or is not edge-connected; core::TopologyError, naming the cells, if the
+/// check fails (not expected with rule 2).
 std::vector<std::vector<Block>> profile_blocks(const std::vector<std::array<int, 2>>& cells, int elements, int layers);
 
 /// Cube parameters of block parameters uvw (trilinear in the corners).
