@@ -65,6 +65,9 @@ const std::vector<Model>& all_models() {
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},
       {"assembly", "assembly", "", 24, &kAssembly},
+      // Generated rings of rectilinear profiles (volts-make-model): a plus (profile ring) and an L (square ring).
+      {"washer", "washer", "", 48, nullptr},
+      {"flanged-ring", "flanged-ring", "", 48, nullptr},
   };
   return list;
 }
