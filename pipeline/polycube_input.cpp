@@ -163,7 +163,12 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
       const core::Json& pj = pc["profile"];
       pr.b = core::require(pj, "b", in).get<std::vector<double>>();
       pr.c = core::require(pj, "c", in).get<std::vector<double>>();
-      pr.cells = core::require(pj, "cells", in).get<std::vector<std::array<int, 2>>>();
+      // Read as numbers and checked before they become indices (a huge or fractional one is no cell).
+      for (const auto& c : core::require(pj, "cells", in).get<std::vector<std::array<double, 2>>>()) {
+        for (const double x : c)
+          if (!(x >= 0 && x < 1e6 && x == std::floor(x))) throw core::InvalidInputError(in + ": polycube.profile has a cell index that is no grid index");
+        pr.cells.push_back({static_cast<int>(c[0]), static_cast<int>(c[1])});
+      }
     } catch (const core::Json::exception& x) {
       throw core::InvalidInputError(in + ": malformed polycube.profile: " + x.what());
     }
@@ -173,7 +178,7 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
       if (!ok) throw core::InvalidInputError(in + ": polycube.profile grid lines must increase from 0 to 1, at least 1e-3 apart");
     }
     for (const auto& [i, j] : pr.cells)
-      if (i < 0 || j < 0 || i + 1 >= static_cast<int>(pr.b.size()) || j + 1 >= static_cast<int>(pr.c.size()))
+      if (i >= static_cast<int>(pr.b.size()) - 1 || j >= static_cast<int>(pr.c.size()) - 1)
         throw core::InvalidInputError(in + ": polycube.profile has a cell outside its grid");
     if (pr.cells.empty()) throw core::InvalidInputError(in + ": polycube.profile has no cells");
   }
@@ -239,7 +244,8 @@ tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& param
     const int cells = pr.empty() ? 1 : static_cast<int>(pr.cells.size());
     for (int k = 0; k < ring.embedding.ring; ++k)
       for (int c = 0; c < cells; ++c) {
-        cube.push_back({static_cast<int>(r), k, c}), m.boundary.push_back({0, 0, 1, 1, 1, 1});
+        cube.push_back({static_cast<int>(r), k, c});
+        m.boundary.push_back({0, 0, 1, 1, 1, 1});  // of the square ring's cubes; with explicit blocks (profiles, cuts) not used
         if (explicit_blocks) m.blocks.push_back(cell_blocks[static_cast<std::size_t>(c)]);
       }
   }

@@ -180,7 +180,7 @@ void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const
     // profile tried, all 218 of a 3 x 3 grid: a safety net, not a known case.)
     const polycube::Profile& pr = m.embedding.profile;
     if (!pr.empty()) try {
-        tmesh::profile_blocks(pr.cells, 8, 1);
+        tmesh::profile_blocks(pr.cells, 1 << ctx.config.tmesh.level, ctx.config.tmesh.pillow_layers);
       } catch (const core::TopologyError& e) {
         core::log_warning(what + "the rectilinear cross section cannot be pillowed yet (" + e.what() + "): mapped onto the square ring");
         pp.profile = "square";

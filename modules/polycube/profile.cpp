@@ -135,8 +135,15 @@ std::optional<Embedding> embed_profile_ring(const split::Decomposition& d, const
     for (const auto& [v, i] : index[static_cast<std::size_t>(l)]) at[static_cast<std::size_t>(i)] = v;
     const auto& pos = position[static_cast<std::size_t>(l)];
     const long size = static_cast<long>(loop.size());
-    const long step = (static_cast<long>(pos.at(at[1])) - static_cast<long>(pos.at(at[0])) + size) % size;
-    const int dir = step * 2 < size ? 1 : -1;
+    // Forward along the loop if the first corner met after corner 0 is corner 1 (a count of
+    // vertices would be fooled by one finely meshed side).
+    int dir = -1;
+    for (long q = (static_cast<long>(pos.at(at[0])) + 1) % size;; q = (q + 1) % size) {
+      const auto it = index[static_cast<std::size_t>(l)].find(loop[static_cast<std::size_t>(q)]);
+      if (it == index[static_cast<std::size_t>(l)].end()) continue;
+      dir = it->second == 1 ? 1 : -1;
+      break;
+    }
     std::vector<Vec3> P(m);
     for (std::size_t i = 0; i < m; ++i) {
       P[i] = L.points[static_cast<std::size_t>(at[i])];

@@ -87,7 +87,7 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
   for (std::size_t t = 0; t < side.size(); ++t) tris[side[t]].push_back(static_cast<int>(t));
   std::array<Submesh, 2> torus;
   torus[0] = submesh(L, tris[0], std::vector<char>(tris[0].size(), 0));
-  const std::vector<int> fill = fill_openings(torus[0], L, true);  // no chords: the disk maps onto a square (polycube::conforming_disk)
+  const std::vector<int> fill = fill_openings(torus[0], L, true);  // no chords: flat triangles once the disk is pressed onto a face
   {
     std::vector<int> t1 = tris[1];
     std::vector<char> rev(t1.size(), 0);
