@@ -21,6 +21,45 @@ std::array<double, 3> cell_point(const Embedding& e, int k, const std::array<dou
   return {r * std::cos(theta), r * std::sin(theta), e.mirrored ? 1.0 - x[2] : x[2]};
 }
 
+void place_patches(Embedding& e, const split::Layout& L, const std::vector<PlacedPatch>& placed, const std::vector<PatchMap>& maps) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto place = [&]() {
+    std::vector<Vec3> pts(L.points.size(), Vec3{nan, nan, nan});
+    double mismatch = 0;
+    for (const PlacedPatch& pl : placed) {
+      const PatchMap& m = maps.at(static_cast<std::size_t>(pl.patch));
+      const auto& X = pl.corners;
+      for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+        const double s = m.st[v][0], t = m.st[v][1];
+        Vec3 abc{};
+        for (std::size_t q = 0; q < 3; ++q)
+          abc[q] = (1 - s) * (1 - t) * X[0][q] + s * (1 - t) * X[1][q] + s * t * X[2][q] + (1 - s) * t * X[3][q];
+        const Vec3 y = cell_point(e, pl.component, abc);
+        Vec3& slot = pts[static_cast<std::size_t>(m.vertices[v])];
+        if (!std::isnan(slot[0]))
+          mismatch = std::max(mismatch, std::sqrt((slot[0] - y[0]) * (slot[0] - y[0]) + (slot[1] - y[1]) * (slot[1] - y[1]) + (slot[2] - y[2]) * (slot[2] - y[2])));
+        slot = y;
+      }
+    }
+    e.max_mismatch = mismatch;
+    return pts;
+  };
+  // Mirror if the embedded surface has the other orientation than the physical one.
+  auto signed_volume = [&](const std::vector<Vec3>& p) {
+    double v = 0;
+    for (const auto& t : L.triangles) {
+      const Vec3 &a = p[static_cast<std::size_t>(t[0])], &b = p[static_cast<std::size_t>(t[1])], &c = p[static_cast<std::size_t>(t[2])];
+      v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    }
+    return v;
+  };
+  e.points = place();
+  if (signed_volume(e.points) < 0) {
+    e.mirrored = true;
+    e.points = place();
+  }
+}
+
 Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>& maps) {
   if (d.tori.size() != 1 || d.components.size() != d.tori[0].components.size())
     throw core::TopologyError("polycube: only a decomposition into one torus can be embedded yet (this one has " +
@@ -48,57 +87,27 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
         e.cells[k][corner] = cell_point(e, k, {double(a), double(qb[i]), double(qc[i])});
       }
   }
-  // Mirror if the embedded surface has the other orientation than the physical one.
   const split::Layout& L = d.layout;
-  auto signed_volume = [&](const std::vector<Vec3>& p) {
-    double v = 0;
-    for (const auto& t : L.triangles) {
-      const Vec3 &a = p[t[0]], &b = p[t[1]], &c = p[t[2]];
-      v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
-    }
-    return v;
-  };
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  auto place = [&]() {
-    std::vector<Vec3> pts(L.points.size(), Vec3{nan, nan, nan});
-    double mismatch = 0;
-    for (int k = 0; k < n; ++k) {
-      const auto& comp = d.components[d.tori[0].components[k]];
-      std::map<int, int> local_corner;  // layout vertex -> local corner index
-      for (int c = 0; c < 8; ++c) local_corner[e.corner_vertex[k][c]] = c;
-      for (int i = 0; i < 4; ++i) {
-        const int p = comp.faces[i].patches[0];
-        const auto& P = L.patches[p];
-        std::array<Vec3, 4> X;  // local coordinates of the patch's corners
-        for (int j = 0; j < 4; ++j) {
-          const auto it = local_corner.find(P.corners[j]);
-          if (it == local_corner.end()) throw core::TopologyError("polycube: patch " + std::to_string(p) + " has a corner that is not a corner of its cube");
-          X[j] = {double(it->second & 1), double((it->second >> 1) & 1), double((it->second >> 2) & 1)};
-        }
-        const auto& m = maps[p];
-        for (std::size_t v = 0; v < m.vertices.size(); ++v) {
-          const double s = m.st[v][0], t = m.st[v][1];
-          Vec3 abc{};
-          for (int q = 0; q < 3; ++q)
-            abc[q] = (1 - s) * (1 - t) * X[0][q] + s * (1 - t) * X[1][q] + s * t * X[2][q] + (1 - s) * t * X[3][q];
-          const Vec3 y = cell_point(e, k, abc);
-          Vec3& slot = pts[m.vertices[v]];
-          if (!std::isnan(slot[0]))
-            mismatch = std::max(mismatch, std::sqrt((slot[0] - y[0]) * (slot[0] - y[0]) + (slot[1] - y[1]) * (slot[1] - y[1]) + (slot[2] - y[2]) * (slot[2] - y[2])));
-          slot = y;
-        }
+  std::vector<PlacedPatch> placed;
+  for (int k = 0; k < n; ++k) {
+    const auto& comp = d.components[d.tori[0].components[k]];
+    std::map<int, int> local_corner;  // layout vertex -> local corner index
+    for (int c = 0; c < 8; ++c) local_corner[e.corner_vertex[k][c]] = c;
+    for (int i = 0; i < 4; ++i) {
+      PlacedPatch pl{k, comp.faces[i].patches[0], {}};
+      const auto& P = L.patches[pl.patch];
+      for (int j = 0; j < 4; ++j) {
+        const auto it = local_corner.find(P.corners[j]);
+        if (it == local_corner.end()) throw core::TopologyError("polycube: patch " + std::to_string(pl.patch) + " has a corner that is not a corner of its cube");
+        pl.corners[j] = {double(it->second & 1), double((it->second >> 1) & 1), double((it->second >> 2) & 1)};
       }
+      placed.push_back(pl);
     }
-    e.max_mismatch = mismatch;
-    return pts;
-  };
-  e.points = place();
-  if (signed_volume(e.points) < 0) {
-    e.mirrored = true;
+  }
+  place_patches(e, L, placed, maps);
+  if (e.mirrored)
     for (auto& cell : e.cells)
       for (auto& x : cell) x[2] = 1 - x[2];
-    e.points = place();
-  }
   for (const auto& t : L.triangles)
     for (int k = 0; k < 3; ++k) {
       const Vec3 &p = e.points[t[k]], &q = e.points[t[(k + 1) % 3]];

@@ -58,6 +58,21 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
 /// The embedding point of local coordinates abc in component k (polar in its sector).
 std::array<double, 3> cell_point(const Embedding& e, int component, const std::array<double, 3>& abc);
 
+/// A patch map placed on the ring: component (sector) and the sector coordinates of the patch's
+/// corners 0..3 (its square's (0,0), (1,0), (1,1), (0,1)).
+struct PlacedPatch {
+  int component = 0;
+  int patch = 0;
+  std::array<std::array<double, 3>, 4> corners{};
+};
+
+/// e.points: every vertex of the patch maps at the embedding point of the bilinear image of its
+/// (s, t) in its patch's corners (e.ring and e.mirrored set), e.max_mismatch the largest distance
+/// between the points one vertex gets from different patches; then, if the embedded layout
+/// triangles enclose a negative volume, e.mirrored = true and placed again (so the volume map
+/// keeps the surface's orientation). Unused vertices: NaN.
+void place_patches(Embedding& e, const split::Layout& layout, const std::vector<PlacedPatch>& placed, const std::vector<PatchMap>& maps);
+
 /// Sector coordinates of local coordinates abc of profile cell `cell` (an index into
 /// e.profile.cells; with an empty profile, abc itself).
 std::array<double, 3> profile_to_sector(const Profile& p, int cell, const std::array<double, 3>& abc);

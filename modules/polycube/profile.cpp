@@ -6,7 +6,6 @@
 // describe, cut into grid cells, so every sharp curve lies on an edge of the polycube.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <set>
 
@@ -256,25 +255,20 @@ std::optional<Embedding> embed_profile_ring(const split::Decomposition& d, const
   e.profile = pr;
   e.cells.resize(static_cast<std::size_t>(n));
   e.corner_vertex.assign(static_cast<std::size_t>(n), std::array<int, 8>{-1, -1, -1, -1, -1, -1, -1, -1});
-  struct Placed {
-    int component = 0;
-    int patch = 0;
-    std::array<Vec3, 4> X;
-  };
-  std::vector<Placed> placed;
+  std::vector<PlacedPatch> placed;
   for (int k = 0; k < n; ++k)
     for (const int p : d.components[static_cast<std::size_t>(T.components[static_cast<std::size_t>(k)])].patches) {
       const split::Patch& P = L.patches[static_cast<std::size_t>(p)];
-      Placed pl{k, p, {}};
+      PlacedPatch pl{k, p, {}};
       std::array<int, 4> at{};
       for (int j = 0; j < 4; ++j) {
         const int v = P.corners[static_cast<std::size_t>(j)], l = loop_of(k, v);
         at[static_cast<std::size_t>(j)] = index[static_cast<std::size_t>(l)].at(v);
         const auto& q = pr.polygon[static_cast<std::size_t>(at[static_cast<std::size_t>(j)])];
-        pl.X[static_cast<std::size_t>(j)] = {l == k ? 1.0 : 0.0, q[0], q[1]};
+        pl.corners[static_cast<std::size_t>(j)] = {l == k ? 1.0 : 0.0, q[0], q[1]};
       }
       for (int j = 0; j < 4; ++j) {
-        const Vec3 &A = pl.X[static_cast<std::size_t>(j)], &B = pl.X[static_cast<std::size_t>((j + 1) % 4)];
+        const Vec3 &A = pl.corners[static_cast<std::size_t>(j)], &B = pl.corners[static_cast<std::size_t>((j + 1) % 4)];
         const int di = (at[static_cast<std::size_t>((j + 1) % 4)] - at[static_cast<std::size_t>(j)] + M) % M;
         if (A[0] == B[0] ? (di != 1 && di != M - 1) : di != 0)
           return fail("patch " + std::to_string(p) + " does not span one side of the cross section");
@@ -282,34 +276,7 @@ std::optional<Embedding> embed_profile_ring(const split::Decomposition& d, const
       if (static_cast<std::size_t>(p) >= maps.size()) return fail("patch " + std::to_string(p) + " has no map");
       placed.push_back(pl);
     }
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  auto place = [&]() {
-    std::vector<Vec3> pts(L.points.size(), Vec3{nan, nan, nan});
-    double mismatch = 0;
-    for (const Placed& pl : placed) {
-      const PatchMap& pm = maps[static_cast<std::size_t>(pl.patch)];
-      for (std::size_t v = 0; v < pm.vertices.size(); ++v) {
-        const double s = pm.st[v][0], t = pm.st[v][1];
-        Vec3 abc{};
-        for (std::size_t q = 0; q < 3; ++q)
-          abc[q] = (1 - s) * (1 - t) * pl.X[0][q] + s * (1 - t) * pl.X[1][q] + s * t * pl.X[2][q] + (1 - s) * t * pl.X[3][q];
-        const Vec3 y = cell_point(e, pl.component, abc);
-        Vec3& slot = pts[static_cast<std::size_t>(pm.vertices[v])];
-        if (!std::isnan(slot[0])) mismatch = std::max(mismatch, norm(minus(slot, y)));
-        slot = y;
-      }
-    }
-    e.max_mismatch = mismatch;
-    return pts;
-  };
-  e.points = place();
-  double volume = 0;  // of the embedded surface: negative if the embedding reverses orientation
-  for (const auto& t : L.triangles)
-    volume += dot(e.points[static_cast<std::size_t>(t[0])], cross(e.points[static_cast<std::size_t>(t[1])], e.points[static_cast<std::size_t>(t[2])])) / 6;
-  if (volume < 0) {
-    e.mirrored = true;
-    e.points = place();
-  }
+  place_patches(e, L, placed, maps);
   for (int k = 0; k < n; ++k)
     for (int c = 0; c < 8; ++c)
       e.cells[static_cast<std::size_t>(k)][static_cast<std::size_t>(c)] = cell_point(e, k, {double(c & 1), double((c >> 1) & 1), double((c >> 2) & 1)});
