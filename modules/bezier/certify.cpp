@@ -23,9 +23,9 @@ void check_params(const CertifyParams& p) {
     throw core::InvalidInputError("certify: rounding_rel must be finite and >= 0");
 }
 
-// Per-thread buffers of the hex search: 8 children per level, plus the split temporaries.
+// Per-thread buffers of the hex search: 8 children and the split temporaries per level.
 struct HexWorkspace {
-  std::vector<double> levels, tmp;
+  std::vector<double> levels;
   TensorBernstein det;
 };
 
@@ -34,25 +34,61 @@ HexWorkspace& hex_workspace() {
   return ws;
 }
 
-// de Casteljau at 1/2 along direction d of a (n0, n1, n2) array: in → lo, hi.
+// de Casteljau at 1/2 along direction d of a (n0, n1, n2) array: in → lo, hi. The array is
+// `outer` blocks of `len` rows of `stride` contiguous values (the lines along d run across the
+// rows), so every step averages whole rows: the same operations, line by line, as a de Casteljau
+// per line, but vectorized over the stride (d = 1, 2). The halving runs in place in hi: after
+// step r its row len-1-r is final, and its row 0 is lo's row r.
+template <int kLen>
+void split_rows(const double* __restrict in, double* __restrict lo, double* __restrict hi, int len_arg, int stride, int outer) {
+  const int len = kLen ? kLen : len_arg;
+  const std::size_t block = static_cast<std::size_t>(len) * stride;
+  for (int o = 0; o < outer; ++o) {
+    const double* __restrict src = in + o * block;
+    double* __restrict l = lo + o * block;
+    double* __restrict h = hi + o * block;
+    for (std::size_t x = 0; x < block; ++x) h[x] = src[x];
+    for (int x = 0; x < stride; ++x) l[x] = src[x];
+    for (int r = 1; r < len; ++r) {
+      for (int i = 0; i < len - r; ++i) {
+        double* __restrict a = h + i * stride;
+        const double* __restrict b = h + (i + 1) * stride;
+        for (int x = 0; x < stride; ++x) a[x] = 0.5 * (a[x] + b[x]);
+      }
+      double* __restrict lr = l + r * stride;
+      for (int x = 0; x < stride; ++x) lr[x] = h[x];
+    }
+  }
+}
+
+// Direction 0 (stride 1): one line at a time, in place in hi as above.
+template <int kLen>
+void split_lines(const double* __restrict in, double* __restrict lo, double* __restrict hi, int len_arg, int lines) {
+  const int len = kLen ? kLen : len_arg;
+  for (int line = 0; line < lines; ++line) {
+    const double* __restrict src = in + line * len;
+    double* __restrict l = lo + line * len;
+    double* __restrict h = hi + line * len;
+    for (int i = 0; i < len; ++i) h[i] = src[i];
+    l[0] = src[0];
+    for (int r = 1; r < len; ++r) {
+      for (int i = 0; i < len - r; ++i) h[i] = 0.5 * (h[i] + h[i + 1]);
+      l[r] = h[0];
+    }
+  }
+}
+
 void split_half(const double* in, double* lo, double* hi, const int n[3], int d) {
   const int stride = d == 0 ? 1 : d == 1 ? n[0] : n[0] * n[1];
   const int len = n[d];
-  double t[64] = {};
-  const int a = d == 0 ? n[1] * n[2] : d == 1 ? n[0] * n[2] : n[0] * n[1];
-  for (int line = 0; line < a; ++line) {
-    int base;
-    if (d == 0) base = line * n[0];
-    else if (d == 1) base = (line % n[0]) + n[0] * n[1] * (line / n[0]);
-    else base = line;
-    for (int i = 0; i < len; ++i) t[i] = in[base + i * stride];
-    lo[base] = t[0];
-    hi[base + (len - 1) * stride] = t[len - 1];
-    for (int r = 1; r < len; ++r) {
-      for (int i = 0; i < len - r; ++i) t[i] = 0.5 * (t[i] + t[i + 1]);
-      lo[base + r * stride] = t[0];
-      hi[base + (len - 1 - r) * stride] = t[len - 1 - r];
-    }
+  const int outer = n[0] * n[1] * n[2] / (stride * len);
+  if (d == 0) {
+    if (len == 9) split_lines<9>(in, lo, hi, len, outer);  // det J of cubic hexes: degree 8
+    else split_lines<0>(in, lo, hi, len, outer);
+  } else if (len == 9) {
+    split_rows<9>(in, lo, hi, len, stride, outer);
+  } else {
+    split_rows<0>(in, lo, hi, len, stride, outer);
   }
 }
 
@@ -88,19 +124,23 @@ struct HexSearch {
       return;
     }
     ++res.subdivisions;
-    double* kids = ws.levels.data() + static_cast<std::size_t>(level) * 8 * size;
-    double* t = ws.tmp.data();  // 2 halves (u), then 4 quarters (v), then the 8 children (w)
-    split_half(c, t, t + size, n, 0);
-    for (int a = 0; a < 2; ++a) split_half(t + a * size, t + (2 + 2 * a) * size, t + (3 + 2 * a) * size, n, 1);
-    for (int b = 0; b < 4; ++b) {
-      // quarter b = (u half a, v half bv) with index 2a + bv; child bit0 = u, bit1 = v, bit2 = w.
-      const int a = b / 2, bv = b % 2, child = a | (bv << 1);
-      split_half(t + (2 + b) * size, kids + child * size, kids + (child | 4) * size, n, 2);
-    }
-    for (int child = 0; child < 8 && !invalid; ++child)
+    // The 8 children (bit0 = u half, bit1 = v, bit2 = w), then the 2 u halves and the 4 quarters
+    // (u half a, v half bv at 2a + bv) of this level, computed as the children are visited: a
+    // fold found in an early child (most elements not valid) skips the other splits.
+    double* kids = ws.levels.data() + static_cast<std::size_t>(level) * kSlots * size;
+    double* halves = kids + 8 * size;
+    double* quarters = halves + 2 * size;
+    split_half(c, halves, halves + size, n, 0);
+    bool v_done[2] = {false, false}, w_done[4] = {false, false, false, false};
+    for (int child = 0; child < 8 && !invalid; ++child) {
+      const int a = child & 1, bv = (child >> 1) & 1, b = 2 * a + bv;
+      if (!v_done[a]) split_half(halves + a * size, quarters + 2 * a * size, quarters + (2 * a + 1) * size, n, 1), v_done[a] = true;
+      if (!w_done[b]) split_half(quarters + b * size, kids + (a | (bv << 1)) * size, kids + (a | (bv << 1) | 4) * size, n, 2), w_done[b] = true;
       visit(kids + child * size, level + 1,
             lo + 0.5 * h * Eigen::Vector3d(child & 1, (child >> 1) & 1, (child >> 2) & 1), 0.5 * h);
+    }
   }
+  static constexpr int kSlots = 14;  // per level: 8 children, 2 halves, 4 quarters
 };
 
 double mean(const std::vector<double>& c) {
@@ -146,9 +186,8 @@ CertifyResult certify_hex_poly(const TensorBernstein& f, const CertifyParams& pa
     root_min = std::min(root_min, c);
   }
   s.tol = params.rounding_rel * amax;
-  const std::size_t need = static_cast<std::size_t>(params.max_depth) * 8 * s.size;
+  const std::size_t need = static_cast<std::size_t>(params.max_depth) * HexSearch::kSlots * s.size;
   if (ws.levels.size() < need) ws.levels.resize(need);
-  if (ws.tmp.size() < 6 * static_cast<std::size_t>(s.size)) ws.tmp.resize(6 * static_cast<std::size_t>(s.size));
   s.res.min_detj_upper = kInf;
   s.visit(f.coefs.data(), 0, Eigen::Vector3d::Zero(), 1.0);
   s.res.mean_detj = mean(f.coefs);
