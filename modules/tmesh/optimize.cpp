@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -315,7 +316,10 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   std::vector<std::vector<Eigen::Matrix3d>> samples(s.size());
   std::vector<XRowSamples> x_rows;  // per block (its degree)
   for (const TMesh& t : blocks) x_rows.emplace_back(t.degree, params.gauss_points);
-  core::parallel_for(s.size(), [&](std::size_t e) {
+  // Threads started once: the per-node batches below (~64 elements) are too small to start
+  // threads for each. Every item writes its own slot, so results do not depend on the count.
+  core::ThreadPool pool;
+  pool.for_each(s.size(), [&](std::size_t e) {
     const bezier::BezierHex h = s.hex(e);
     samples[e] = bezier::jacobian_samples(h, params.gauss_points);
     q[e] = Quality{bezier::summarize_jacobians(samples[e]).min_scaled, bezier::certify(h, cp).status == bezier::Validity::valid};
@@ -364,15 +368,18 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
           if (q[static_cast<std::size_t>(x)].scaled < params.target + params.margin || !q[static_cast<std::size_t>(x)].valid) near.push_back(x);
         auto objective_on = [&](const std::vector<double>& d, const auto& set) {
           s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
-          double worst = std::numeric_limits<double>::infinity();
-          for (const int x : set) {
-            const bezier::BezierHex hx = s.hex(static_cast<std::size_t>(x));
-            worst = std::min(worst, bezier::sample_jacobian(hx, params.gauss_points).min_scaled);
-            if (!q[static_cast<std::size_t>(x)].valid) {
+          // Per element on the pool (sampled figure, then the certified one), reduced in order.
+          std::vector<std::array<double, 2>> v(set.size(), {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
+          pool.for_each(set.size(), [&](std::size_t i) {
+            const bezier::BezierHex hx = s.hex(static_cast<std::size_t>(set[i]));
+            v[i][0] = bezier::sample_jacobian(hx, params.gauss_points).min_scaled;
+            if (!q[static_cast<std::size_t>(set[i])].valid) {
               const bezier::CertifyResult c = bezier::certify(hx, cp);
-              if (c.mean_detj > 0) worst = std::min(worst, c.min_detj_lower / c.mean_detj);
+              if (c.mean_detj > 0) v[i][1] = c.min_detj_lower / c.mean_detj;
             }
-          }
+          }, 1);
+          double worst = std::numeric_limits<double>::infinity();
+          for (const auto& [sampled, certified] : v) worst = std::min(std::min(worst, sampled), certified);
           return worst;
         };
         // The search's objective on certified-valid elements without re-evaluating them: J is
@@ -380,19 +387,22 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         // (∇N: gradient of the node's basis function there), so each element's sampled J(x0) and
         // ∇N are taken once per node. Most of the optimization's time was these re-evaluations.
         AffineSamples linear;
-        std::vector<Eigen::RowVector3d> J1;  // row x of the samples with the node moved by h along x
         std::vector<int> direct;  // elements not certified valid: re-evaluated and certified per call
-        for (const int x : near) {
-          if (!q[static_cast<std::size_t>(x)].valid) {
-            direct.push_back(x);
-            continue;
-          }
-          const std::vector<Eigen::Matrix3d>& J0 = samples[static_cast<std::size_t>(x)];
-          s.set_position(id, {x0[0] + h, x0[1], x0[2]});
-          x_rows[static_cast<std::size_t>(s.block_of(static_cast<std::size_t>(x)))](s.hex_x(static_cast<std::size_t>(x)), J1);
-          for (std::size_t k = 0; k < J1.size(); ++k) linear.add(J0[k], (J1[k] - J0[k].row(0)) / h);
-        }
+        std::vector<int> linearized;
+        for (const int x : near) (q[static_cast<std::size_t>(x)].valid ? linearized : direct).push_back(x);
+        // Row x of the samples with the node moved by h along x, per element (in parallel), then
+        // added in element order.
+        std::vector<std::vector<Eigen::RowVector3d>> J1(linearized.size());
+        s.set_position(id, {x0[0] + h, x0[1], x0[2]});
+        pool.for_each(linearized.size(), [&](std::size_t k) {
+          const std::size_t x = static_cast<std::size_t>(linearized[k]);
+          x_rows[static_cast<std::size_t>(s.block_of(x))](s.hex_x(x), J1[k]);
+        }, 4);
         s.set_position(id, x0);
+        for (std::size_t k = 0; k < linearized.size(); ++k) {
+          const std::vector<Eigen::Matrix3d>& J0 = samples[static_cast<std::size_t>(linearized[k])];
+          for (std::size_t i = 0; i < J1[k].size(); ++i) linear.add(J0[i], (J1[k][i] - J0[i].row(0)) / h);
+        }
         auto objective = [&](const std::vector<double>& d) {
           const double worst = linear.min_scaled(d.data());
           return direct.empty() ? worst : std::min(worst, objective_on(d, direct));
@@ -433,36 +443,39 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         std::vector<bezier::BezierHex> hexes(els.size());
         std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
         std::vector<Quality> now(els.size());
-        double after = std::numeric_limits<double>::infinity();
-        // Worst elements first: `after` only falls, so the move is refused as soon as it reaches
-        // `before` (most moves), without evaluating the other elements.
+        // Accepted iff every element's new figure exceeds `before` (and, for elements not certified
+        // valid, its certified lower bound relative to its mean det J) and every certified-valid
+        // element stays certified valid. Evaluated on the pool, worst elements first; the first
+        // element that fails stops the others (the decision and, when accepted, every element's
+        // new figures are those of a serial pass).
         std::vector<std::size_t> order(els.size());
         for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
         std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
           return q[static_cast<std::size_t>(els[a])].scaled < q[static_cast<std::size_t>(els[b])].scaled;
         });
-        for (const std::size_t k : order) {
-          if (!(after > before + 1e-9)) break;
+        std::atomic<bool> refused{false};
+        pool.for_each(order.size(), [&](std::size_t i) {
+          if (refused) return;
+          const std::size_t k = order[i];
           const std::size_t x = static_cast<std::size_t>(els[k]);
           hexes[k] = s.hex(x);
           js[k] = bezier::jacobian_samples(hexes[k], params.gauss_points);
           now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
-          after = std::min(after, now[k].scaled);
+          double value = now[k].scaled;
           if (!q[x].valid) {
             const bezier::CertifyResult c = bezier::certify(hexes[k], cp);
             now[k].valid = c.status == bezier::Validity::valid;
-            if (c.mean_detj > 0) after = std::min(after, c.min_detj_lower / c.mean_detj);
+            if (c.mean_detj > 0) value = std::min(value, c.min_detj_lower / c.mean_detj);
           }
-        }
-        bool ok = after > before + 1e-9;
-        if (ok) {
-          // A gain: certify the valid elements (on 2 threads; each result to its own slot).
-          std::vector<char> kept(els.size(), 1);
-          core::parallel_for(els.size(), [&](std::size_t k) {
-            if (q[static_cast<std::size_t>(els[k])].valid) kept[k] = now[k].valid = bezier::certify(hexes[k], cp).status == bezier::Validity::valid;
-          }, 8);
-          ok = std::find(kept.begin(), kept.end(), 0) == kept.end();
-        }
+          if (!(value > before + 1e-9)) {
+            refused = true;
+            return;
+          }
+          // A gain so far: certify the valid elements (the sampled figures refuse most moves
+          // before any of these certifications).
+          if (q[x].valid && !(now[k].valid = bezier::certify(hexes[k], cp).status == bezier::Validity::valid)) refused = true;
+        }, 4);
+        const bool ok = !refused;
         if (!ok) {
           s.set_position(id, x0);
           continue;

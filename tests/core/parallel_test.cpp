@@ -1,4 +1,4 @@
-// core::parallel_for: every item once, on any number of threads; errors reach the caller.
+// core::parallel_for and core::ThreadPool: every item once, on any number of threads; errors reach the caller.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -30,6 +30,28 @@ TEST(ParallelFor, RethrowsAnItemsException) {
     if (i == 57) throw std::runtime_error("item 57");
   }), std::runtime_error);
   unsetenv("VOLTS_THREADS");
+}
+
+TEST(ThreadPool, EveryItemOnceOverManyCallsForAnyThreadCount) {
+  for (const int threads : {1, 2, 3, 8}) {
+    ThreadPool pool(threads);
+    for (int round = 0; round < 200; ++round)
+      for (const std::size_t n : {0, 1, 3, 4, 5, 64, 1000}) {
+        std::vector<int> hits(n, 0);
+        pool.for_each(n, [&](std::size_t i) { ++hits[i]; }, 4);
+        for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(hits[i], 1) << "item " << i << " of " << n << " on " << threads << " threads";
+      }
+  }
+}
+
+TEST(ThreadPool, RethrowsAnItemsExceptionAndStaysUsable) {
+  ThreadPool pool(2);
+  EXPECT_THROW(pool.for_each(100, [](std::size_t i) {
+    if (i == 57) throw std::runtime_error("item 57");
+  }, 1), std::runtime_error);
+  std::vector<int> hits(100, 0);
+  pool.for_each(100, [&](std::size_t i) { ++hits[i]; }, 1);
+  for (const int h : hits) EXPECT_EQ(h, 1);
 }
 
 }  // namespace
