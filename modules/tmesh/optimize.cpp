@@ -298,6 +298,110 @@ struct Quality {
   bool valid = false;  // certified det J > 0
 };
 
+// Scaled Jacobian of the hexahedron of a Bézier element's corner points (eq. (1)–(2)).
+double corner_hex_scaled_jacobian(const bezier::BezierHex& h) {
+  const int p = h.degree[0], q = h.degree[1], r = h.degree[2];
+  const std::array<int, 8> at = {h.index(0, 0, 0), h.index(p, 0, 0), h.index(p, q, 0), h.index(0, q, 0),
+                                 h.index(0, 0, r), h.index(p, 0, r), h.index(p, q, r), h.index(0, q, r)};
+  std::array<Vec3, 8> x;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d& y = h.points[static_cast<std::size_t>(at[static_cast<std::size_t>(c)])];
+    x[static_cast<std::size_t>(c)] = {y[0], y[1], y[2]};
+  }
+  return trilinear_min_scaled_jacobian(x);
+}
+
+// The trilinear pass (OptimizeParams::trilinear_sweeps): after the Bézier sweeps, so that a
+// move is judged against their result (its elements' sampled figures stay at or above the worst
+// overall, certified-valid elements stay valid).
+void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, core::ThreadPool& pool,
+                     const OptimizeParams& params, OptimizeResult& r) {
+  const bezier::CertifyParams cp;
+  std::vector<double> tri(s.size());
+  pool.for_each(s.size(), [&](std::size_t e) { tri[e] = corner_hex_scaled_jacobian(s.hex(e)); });
+  r.trilinear_before = r.trilinear_after = *std::min_element(tri.begin(), tri.end());
+  double floor = std::numeric_limits<double>::infinity();
+  for (const auto& x : q) floor = std::min(floor, x.scaled);
+  for (int sweep = 0; sweep < params.trilinear_sweeps; ++sweep) {
+    std::vector<std::size_t> bad;
+    for (std::size_t e = 0; e < s.size(); ++e)
+      if (tri[e] < params.trilinear_target) bad.push_back(e);
+    std::sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) { return tri[a] < tri[b]; });
+    if (bad.empty()) break;
+    int moved = 0;
+    std::set<int> visited;
+    for (const std::size_t e : bad) {
+      if (tri[e] >= params.trilinear_target) continue;
+      std::vector<int> nodes;
+      for (const int local : s.points_of(e)) {
+        const int id = s.id_of(s.block_of(e), local);
+        if (!s.on_surface(id) && visited.insert(id).second) nodes.push_back(id);
+      }
+      for (const int id : nodes) {
+        const std::vector<int>& els = s.elements_of(id);
+        const auto x0 = s.position(id);
+        const double h = 0.5 * s.neighbour_distance(id);
+        if (!std::isfinite(h) || h <= 0) continue;
+        double before = std::numeric_limits<double>::infinity();
+        for (const int x : els) before = std::min(before, tri[static_cast<std::size_t>(x)]);
+        std::vector<double> v(els.size());
+        auto objective = [&](const std::vector<double>& d) {
+          s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
+          pool.for_each(els.size(), [&](std::size_t k) { v[k] = corner_hex_scaled_jacobian(s.hex(static_cast<std::size_t>(els[k]))); }, 4);
+          return *std::min_element(v.begin(), v.end());
+        };
+        nlopt::opt opt(nlopt::LN_BOBYQA, 3);
+        opt.set_lower_bounds(std::vector<double>(3, -h));
+        opt.set_upper_bounds(std::vector<double>(3, h));
+        opt.set_max_objective([](const std::vector<double>& d, std::vector<double>&, void* f) {
+          return (*static_cast<decltype(objective)*>(f))(d);
+        }, &objective);
+        opt.set_maxeval(params.max_evaluations);
+        opt.set_initial_step(0.25 * h);
+        std::vector<double> d(3, 0.0);
+        double best = before;
+        try {
+          opt.optimize(d, best);
+        } catch (const std::exception&) {
+          // NLopt gives up on a flat objective: keep the best point it reported in d.
+        }
+        if ((d[0] == 0 && d[1] == 0 && d[2] == 0) || !(objective(d) > before + 1e-9)) {
+          s.set_position(id, x0);
+          continue;
+        }
+        // The Bézier elements: sampled figures not below the floor, certified-valid ones valid.
+        const std::vector<double> corner = v;
+        std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
+        std::vector<Quality> now(els.size());
+        std::atomic<bool> refused{false};
+        pool.for_each(els.size(), [&](std::size_t k) {
+          if (refused) return;
+          const std::size_t x = static_cast<std::size_t>(els[k]);
+          const bezier::BezierHex hx = s.hex(x);
+          js[k] = bezier::jacobian_samples(hx, params.gauss_points);
+          now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
+          now[k].valid = bezier::certify(hx, cp).status == bezier::Validity::valid;
+          if (now[k].scaled < floor || (q[x].valid && !now[k].valid)) refused = true;
+        }, 4);
+        if (refused) {
+          s.set_position(id, x0);
+          continue;
+        }
+        for (std::size_t k = 0; k < els.size(); ++k) {
+          const auto x = static_cast<std::size_t>(els[k]);
+          q[x] = now[k], samples[x] = std::move(js[k]), tri[x] = corner[k];
+        }
+        ++moved;
+      }
+    }
+    r.trilinear_nodes_moved += moved;
+    r.trilinear_after = *std::min_element(tri.begin(), tri.end());
+    core::log("trilinear sweep " + std::to_string(sweep + 1) + ": " + std::to_string(moved) + " nodes moved, worst trilinear scaled Jacobian " +
+              std::to_string(r.trilinear_after));
+    if (moved == 0) break;
+  }
+}
+
 }  // namespace
 
 OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params) {
@@ -307,6 +411,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   if (!(params.min_gain >= 0 && params.min_gain <= 1) || !(params.min_fixed_rel >= 0 && params.min_fixed_rel <= 1) ||
       params.patience < 1 || params.patience > 100)
     throw core::ConfigError("tmesh optimization: min_gain and min_fixed_rel must be in [0, 1] and patience in [1, 100]");
+  if (params.trilinear_sweeps < 0 || params.trilinear_sweeps > 100 || !(params.trilinear_target >= -1 && params.trilinear_target <= 1))
+    throw core::ConfigError("tmesh optimization: trilinear_sweeps must be in [0, 100] and trilinear_target in [-1, 1]");
   OptimizeResult r;
   Spline s(blocks);
   const bezier::CertifyParams cp;
@@ -524,6 +630,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
                         " sweeps (tmesh.optimize_sweeps) while moves still raised the worst scaled Jacobian");
   }
   summary(&r.min_after, &r.invalid_after);
+  trilinear_phase(s, q, samples, pool, params, r);
   return r;
 }
 
