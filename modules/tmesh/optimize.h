@@ -11,7 +11,9 @@
 // Bézier elements it supports; it is a minimum (not smooth), so NLopt's derivative-free BOBYQA
 // maximizes it instead of the paper's BFGS step-size search. A move is kept only if the worst
 // scaled Jacobian of those elements rises and none of them loses its certified det J > 0
-// (bezier::certify), so optimization never makes the certified validity worse.
+// (bezier::certify), so optimization never makes the certified validity worse. A trilinear pass
+// follows (the paper's eq. (1)–(2) figure of the T-mesh elements, the hexes of their corner
+// points): see OptimizeParams::trilinear_sweeps.
 #pragma once
 
 #include <string>
