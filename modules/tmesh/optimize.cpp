@@ -298,6 +298,23 @@ struct Quality {
   bool valid = false;  // certified det J > 0
 };
 
+// Maximizes objective(d) over the box [-h, h]^3 from d (NLopt's derivative-free BOBYQA: the
+// objectives are minima, not smooth), at most `evaluations` calls; d and best receive the best
+// point and value NLopt reported (also when it gives up on a flat or noisy objective).
+template <class F>
+void maximize_in_box(F& objective, double h, int evaluations, std::vector<double>& d, double& best) {
+  nlopt::opt opt(nlopt::LN_BOBYQA, 3);
+  opt.set_lower_bounds(std::vector<double>(3, -h));
+  opt.set_upper_bounds(std::vector<double>(3, h));
+  opt.set_max_objective([](const std::vector<double>& x, std::vector<double>&, void* f) { return (*static_cast<F*>(f))(x); }, &objective);
+  opt.set_maxeval(evaluations);
+  opt.set_initial_step(0.25 * h);
+  try {
+    opt.optimize(d, best);
+  } catch (const std::exception&) {
+  }
+}
+
 // Scaled Jacobian of the hexahedron of a Bézier element's corner points (eq. (1)–(2)).
 double corner_hex_scaled_jacobian(const bezier::BezierHex& h) {
   const int p = h.degree[0], q = h.degree[1], r = h.degree[2];
@@ -350,21 +367,9 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
           pool.for_each(els.size(), [&](std::size_t k) { v[k] = corner_hex_scaled_jacobian(s.hex(static_cast<std::size_t>(els[k]))); }, 4);
           return *std::min_element(v.begin(), v.end());
         };
-        nlopt::opt opt(nlopt::LN_BOBYQA, 3);
-        opt.set_lower_bounds(std::vector<double>(3, -h));
-        opt.set_upper_bounds(std::vector<double>(3, h));
-        opt.set_max_objective([](const std::vector<double>& d, std::vector<double>&, void* f) {
-          return (*static_cast<decltype(objective)*>(f))(d);
-        }, &objective);
-        opt.set_maxeval(params.max_evaluations);
-        opt.set_initial_step(0.25 * h);
         std::vector<double> d(3, 0.0);
         double best = before;
-        try {
-          opt.optimize(d, best);
-        } catch (const std::exception&) {
-          // NLopt gives up on a flat objective: keep the best point it reported in d.
-        }
+        maximize_in_box(objective, h, params.max_evaluations, d, best);
         if ((d[0] == 0 && d[1] == 0 && d[2] == 0) || !(objective(d) > before + 1e-9)) {
           s.set_position(id, x0);
           continue;
@@ -513,14 +518,6 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
           const double worst = linear.min_scaled(d.data());
           return direct.empty() ? worst : std::min(worst, objective_on(d, direct));
         };
-        nlopt::opt opt(nlopt::LN_BOBYQA, 3);
-        opt.set_lower_bounds(std::vector<double>(3, -h));
-        opt.set_upper_bounds(std::vector<double>(3, h));
-        opt.set_max_objective([](const std::vector<double>& d, std::vector<double>&, void* f) {
-          return (*static_cast<decltype(objective)*>(f))(d);
-        }, &objective);
-        opt.set_maxeval(params.max_evaluations);
-        opt.set_initial_step(0.25 * h);
         std::vector<double> d(3, 0.0);
         // The objective over all the node's elements at x0: sampled figures from q, certified
         // ones of the elements not certified valid.
@@ -532,11 +529,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         }
         if (!not_valid.empty()) before = std::min(before, objective_on(d, not_valid));
         double best = objective(d);
-        try {
-          opt.optimize(d, best);
-        } catch (const std::exception&) {
-          // NLopt gives up on a flat or noisy objective: keep the best point it reported in d.
-        }
+        maximize_in_box(objective, h, params.max_evaluations, d, best);
         // Accept only a real gain (the objective over all the node's elements, evaluated anew)
         // that keeps every certified-valid element valid. At d = 0 the objective is `before`
         // exactly: no gain. The sampled figures decide first, so moves without a gain (most of
