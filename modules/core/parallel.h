@@ -60,7 +60,7 @@ void parallel_for(std::size_t n, F&& f, std::size_t chunk = 16) {
 /// parallel_for on threads started once: for loops called thousands of times on a few items
 /// each (the optimization's per-node batches, ~64 elements), where starting threads per call
 /// costs as much as the work. Same contract as parallel_for (each item writes its own slot; the
-/// first exception is rethrown); for() must not be called concurrently or from inside an item.
+/// first exception is rethrown); for_each() must not be called concurrently or from inside an item.
 class ThreadPool {
  public:
   explicit ThreadPool(int threads = thread_count()) {

@@ -300,7 +300,8 @@ struct Quality {
 
 // Maximizes objective(d) over the box [-h, h]^3 from d (NLopt's derivative-free BOBYQA: the
 // objectives are minima, not smooth), at most `evaluations` calls; d and best receive the best
-// point and value NLopt reported (also when it gives up on a flat or noisy objective).
+// point and value NLopt reported (also when it gives up on a flat or noisy objective, or stops on
+// an error in the objective: callers re-evaluate at d outside NLopt, so a repeatable error comes out).
 template <class F>
 void maximize_in_box(F& objective, double h, int evaluations, std::vector<double>& d, double& best) {
   nlopt::opt opt(nlopt::LN_BOBYQA, 3);
@@ -334,6 +335,7 @@ double corner_hex_scaled_jacobian(const bezier::BezierHex& h) {
 void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, core::ThreadPool& pool,
                      const OptimizeParams& params, OptimizeResult& r) {
   const bezier::CertifyParams cp;
+  if (s.size() == 0) return;
   std::vector<double> tri(s.size());
   pool.for_each(s.size(), [&](std::size_t e) { tri[e] = corner_hex_scaled_jacobian(s.hex(e)); });
   r.trilinear_before = r.trilinear_after = *std::min_element(tri.begin(), tri.end());
@@ -345,20 +347,25 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
       if (tri[e] < params.trilinear_target) bad.push_back(e);
     std::sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) { return tri[a] < tri[b]; });
     if (bad.empty()) break;
-    int moved = 0;
+    int moved = 0, tried = 0;
     std::set<int> visited;
     for (const std::size_t e : bad) {
       if (tri[e] >= params.trilinear_target) continue;
+      if (tried >= params.max_nodes_per_sweep) break;
       std::vector<int> nodes;
       for (const int local : s.points_of(e)) {
         const int id = s.id_of(s.block_of(e), local);
         if (!s.on_surface(id) && visited.insert(id).second) nodes.push_back(id);
       }
       for (const int id : nodes) {
+        if (++tried > params.max_nodes_per_sweep) break;
         const std::vector<int>& els = s.elements_of(id);
         const auto x0 = s.position(id);
         const double h = 0.5 * s.neighbour_distance(id);
         if (!std::isfinite(h) || h <= 0) continue;
+        // Elements not certified valid are the Bézier pass's: a move here could deepen their
+        // fold where no sample sees it.
+        if (std::any_of(els.begin(), els.end(), [&](int x) { return !q[static_cast<std::size_t>(x)].valid; })) continue;
         double before = std::numeric_limits<double>::infinity();
         for (const int x : els) before = std::min(before, tri[static_cast<std::size_t>(x)]);
         std::vector<double> v(els.size());
@@ -386,7 +393,7 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
           js[k] = bezier::jacobian_samples(hx, params.gauss_points);
           now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
           now[k].valid = bezier::certify(hx, cp).status == bezier::Validity::valid;
-          if (now[k].scaled < floor || (q[x].valid && !now[k].valid)) refused = true;
+          if (now[k].scaled < floor || !now[k].valid) refused = true;
         }, 4);
         if (refused) {
           s.set_position(id, x0);
@@ -622,8 +629,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
       core::log_warning("optimization stopped at its bound of " + std::to_string(params.sweeps) +
                         " sweeps (tmesh.optimize_sweeps) while moves still raised the worst scaled Jacobian");
   }
-  summary(&r.min_after, &r.invalid_after);
   trilinear_phase(s, q, samples, pool, params, r);
+  summary(&r.min_after, &r.invalid_after);
   return r;
 }
 

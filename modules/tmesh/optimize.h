@@ -46,9 +46,10 @@ struct OptimizeParams {
   /// 8 corner points, the spline at its corners) whose scaled Jacobian is below
   /// `trilinear_target`: at most `trilinear_sweeps` passes, worst first, each interior node of
   /// such an element moved where that raises the worst trilinear figure of its elements, keeps
-  /// every element certified valid if it was and no element's sampled Bézier figure below the
-  /// worst one overall (the Bézier result stands). A curved element can be valid while the hex
-  /// of its corners folds (the eight: Bézier worst 0.154, trilinear -0.12).
+  /// them all certified valid and no element's sampled Bézier figure below the worst one overall
+  /// (the Bézier result stands; nodes of elements not certified valid are left to the Bézier
+  /// pass; at most `max_nodes_per_sweep` nodes per pass). A curved element can be valid while the
+  /// hex of its corners folds (the eight: Bézier worst 0.154, trilinear -0.12).
   int trilinear_sweeps = 3;        ///< [0, 100]
   double trilinear_target = 0.05;  ///< scaled Jacobian (dimensionless) [-1, 1]
 };
