@@ -298,6 +298,17 @@ struct Quality {
   bool valid = false;  // certified det J > 0
 };
 
+// The interior nodes (global ids) of element e not yet in `visited`, added to it: a node is
+// moved once per sweep, for the worst element it supports.
+std::vector<int> fresh_interior_nodes(const Spline& s, std::size_t e, std::set<int>& visited) {
+  std::vector<int> nodes;
+  for (const int local : s.points_of(e)) {
+    const int id = s.id_of(s.block_of(e), local);
+    if (!s.on_surface(id) && visited.insert(id).second) nodes.push_back(id);
+  }
+  return nodes;
+}
+
 // Maximizes objective(d) over the box [-h, h]^3 from d (NLopt's derivative-free BOBYQA: the
 // objectives are minima, not smooth), at most `evaluations` calls; d and best receive the best
 // point and value NLopt reported (also when it gives up on a flat or noisy objective, or stops on
@@ -352,11 +363,7 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
     for (const std::size_t e : bad) {
       if (tri[e] >= params.trilinear_target) continue;
       if (tried >= params.max_nodes_per_sweep) break;
-      std::vector<int> nodes;
-      for (const int local : s.points_of(e)) {
-        const int id = s.id_of(s.block_of(e), local);
-        if (!s.on_surface(id) && visited.insert(id).second) nodes.push_back(id);
-      }
+      const std::vector<int> nodes = fresh_interior_nodes(s, e, visited);
       for (const int id : nodes) {
         if (++tried > params.max_nodes_per_sweep) break;
         const std::vector<int>& els = s.elements_of(id);
@@ -466,11 +473,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     int tried = 0;
     for (const std::size_t e : bad) {
       if (q[e].scaled >= params.target && q[e].valid) continue;  // improved by an earlier move this sweep
-      std::vector<int> nodes;
-      for (const int local : s.points_of(e)) {
-        const int id = s.id_of(s.block_of(e), local);
-        if (!s.on_surface(id) && visited.insert(id).second) nodes.push_back(id);
-      }
+      const std::vector<int> nodes = fresh_interior_nodes(s, e, visited);
       for (const int id : nodes) {
         if (++tried > params.max_nodes_per_sweep) break;
         const std::vector<int>& els = s.elements_of(id);
