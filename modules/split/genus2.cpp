@@ -108,6 +108,7 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
   d.critical_saddle = cp.saddle_count();
   d.layout.points = L.points;
   std::array<int, 2> disk_patch{-1, -1}, disk_component{-1, -1};
+  std::array<int, 4> disk_corners{-1, -1, -1, -1};  // layout ids, chosen on the first torus
   for (int i = 0; i < 2; ++i) {
     Submesh& T = torus[i];
     // The first field on this torus (the disk at the waist's level), and a meridian: a level set
@@ -136,10 +137,18 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
     }
     if (meridian.empty())
       throw core::TopologyError("split: torus " + std::to_string(i) + " of the genus-2 surface has no level set around its tube; set split.extreme_points");
-    std::vector<int> protect;
-    for (std::size_t v = 0; v < T.layout_vertex.size(); ++v)
-      if (disk_vertices.count(T.layout_vertex[v])) protect.push_back(static_cast<int>(v));
-    Decomposition t = split_torus(T.mesh, {}, prm, protect, meridian);
+    // The disk as one whole patch of this torus, with the same corners in both.
+    std::map<int, int> local;
+    for (std::size_t v = 0; v < T.layout_vertex.size(); ++v) local[T.layout_vertex[v]] = static_cast<int>(v);
+    DiskPatch disk;
+    for (int v : waist) disk.rim.push_back(local.at(v));
+    for (int v : disk_vertices)
+      if (std::find(waist.begin(), waist.end(), v) == waist.end()) disk.inside.push_back(local.at(v));
+    if (i == 1)
+      for (int k = 0; k < 4; ++k) disk.corners[k] = local.at(disk_corners[k]);
+    Decomposition t = split_torus(T.mesh, {}, prm, {}, meridian, &disk);
+    if (i == 0)
+      for (int k = 0; k < 4; ++k) disk_corners[k] = T.layout_vertex[static_cast<std::size_t>(disk.corners[k])];
 
     // Merge: vertices new on this torus and its non-disk triangles are appended to the layout.
     std::vector<int> vmap(t.layout.points.size());
@@ -175,7 +184,13 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
       for (int& v : P.corners) v = vmap[v];
       for (auto& s : P.sides)
         for (int& v : s) v = vmap[v];
-      if (has_disk) disk_patch[i] = patch_offset + static_cast<int>(p);
+      if (has_disk) {
+        for (int x : P.triangles)
+          if (x >= 0) throw core::TopologyError("split: torus " + std::to_string(i) + "'s patch " + std::to_string(p) +
+                                                " holds part of the disk where the tori meet and part of the surface; the disk must be a whole patch");
+        if (disk_patch[i] >= 0) throw core::TopologyError("split: the disk where the tori meet spans several patches of torus " + std::to_string(i));
+        disk_patch[i] = patch_offset + static_cast<int>(p);
+      }
       d.layout.patches.push_back(std::move(P));
     }
     for (auto F : t.layout.internal_faces) {
