@@ -3,6 +3,8 @@
 #define TETLIBRARY
 #include <tetgen.h>
 
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -35,6 +37,10 @@ TetMesh tetrahedralize(const surface::Mesh& surface, const TetgenParams& p) {
   if (!(p.min_dihedral_deg >= 0.0 && p.min_dihedral_deg <= 30.0)) throw core::ConfigError("TetGen min_dihedral_deg must be in [0, 30]");
   if (!(p.max_volume_rel >= 0.0 && p.max_volume_rel <= 1.0)) throw core::ConfigError("TetGen max_volume_rel must be in [0, 1]");
 
+  // TetGen 1.5 can crash (not throw) on some self-intersecting PLCs (seen: a ring's surface closed
+  // by a disk that crosses it), so the exact test comes first.
+  if (CGAL::Polygon_mesh_processing::does_self_intersect(surface))
+    throw core::NumericalError("TetGen not run: the surface to tetrahedralize intersects itself");
   tetgenio in, out;
   in.firstnumber = 0;
   std::map<surface::Mesh::Vertex_index, int> id;
