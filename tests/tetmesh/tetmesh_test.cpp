@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
+#include <string>
+#include <vector>
 
 #include "common/test_util.h"
 #include "core/errors.h"
@@ -76,5 +79,28 @@ TEST(Tetrahedralize, SurfaceVerticesComeFirstWithTheirIds) {
     }
     for (const auto& bf : boundary_faces(m))
       for (int j : kOutwardFace[bf[1]]) EXPECT_LT(m.tets[bf[0]][j], n) << name;
+  }
+}
+
+TEST(Tetrahedralize, SelfIntersectingSurfaceIsANumericalErrorNotACrash) {
+  // Two closed tetrahedra that overlap (the second shifted by a tenth of its size): TetGen 1.5 can
+  // crash on such input, so it is refused before TetGen runs.
+  const surface::Mesh a = test::generated_model("tetrahedron", 4);
+  surface::Mesh s = a;
+  std::map<surface::Mesh::Vertex_index, surface::Mesh::Vertex_index> copy;
+  for (auto v : a.vertices()) {
+    const auto& p = a.point(v);
+    copy[v] = s.add_vertex(surface::Point(p.x() + 0.1, p.y() + 0.05, p.z() + 0.02));
+  }
+  for (auto f : a.faces()) {
+    std::vector<surface::Mesh::Vertex_index> vs;
+    for (auto v : vertices_around_face(a.halfedge(f), a)) vs.push_back(copy[v]);
+    ASSERT_NE(s.add_face(vs), surface::Mesh::null_face());
+  }
+  try {
+    tetrahedralize(s, {});
+    FAIL() << "no error";
+  } catch (const core::NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("intersects itself"), std::string::npos) << e.what();
   }
 }
