@@ -213,100 +213,11 @@ Ring read_ring(const std::string& in, const core::Json& pc, const core::Json& vm
   return r;
 }
 
-// The face two rings share: the disk where their tori meet, a whole cube face of each (split
-// makes it one patch with its four corners; Liu et al. §4.2, primitives united on whole faces).
-// Per ring: the sector holding it, the face (sector axis `across`, 1 or 2, at `level`), and ring
-// 1's in-face coordinates (a, w) as an affine image in ring 0's, so the rings share its points.
-struct SharedFace {
-  std::array<int, 2> sector{}, across{}, level{};
-  std::array<std::array<double, 2>, 3> frame{};  // ring 1's (a, w) = (0,0), (1,0), (0,1) in ring 0's
-
-  /// Ring 0's sector coordinates of a point given in ring r's sector k (coordinates x), if it lies
-  /// on the shared face (also from the neighbouring sectors, whose cross sections hold its edges).
-  std::optional<std::array<double, 3>> on_face(int r, int k, int ring_size, const std::array<double, 3>& x) const {
-    const auto i = static_cast<std::size_t>(r);
-    const auto ax = static_cast<std::size_t>(across[i]), other = static_cast<std::size_t>(3 - across[i]);
-    if (r > 1 || std::abs(x[ax] - level[i]) > 1e-12) return std::nullopt;
-    double a = x[0];
-    if (k == sector[i]) {
-    } else if (k == (sector[i] + 1) % ring_size && x[0] < 1e-12) {
-      a = 1;
-    } else if (k == (sector[i] + ring_size - 1) % ring_size && x[0] > 1 - 1e-12) {
-      a = 0;
-    } else {
-      return std::nullopt;
-    }
-    std::array<double, 2> aw{a, x[other]};
-    if (r == 1) {
-      const auto &O = frame[0], &U = frame[1], &V = frame[2];
-      aw = {O[0] + aw[0] * (U[0] - O[0]) + aw[1] * (V[0] - O[0]), O[1] + aw[0] * (U[1] - O[1]) + aw[1] * (V[1] - O[1])};
-    }
-    std::array<double, 3> y{};
-    y[0] = aw[0], y[static_cast<std::size_t>(across[0])] = level[0], y[static_cast<std::size_t>(3 - across[0])] = aw[1];
-    return y;
-  }
-};
-
-// The shared face of the first two rings of a "tori" stage file: the side faces of their
-// sectors with the same four corner vertices (of the whole layout). nullopt if there is none (the
-// disk inside a patch: files before session 13, or profile rings).
-std::optional<SharedFace> shared_face(const std::string& in, const core::Json& list) {
-  if (!list.is_array() || list.size() != 2) return std::nullopt;
-  struct Face {
-    int sector, across, level;
-    std::array<int, 4> corner;  // layout vertex at in-face (a, w) = (0,0), (1,0), (0,1), (1,1)
-  };
-  std::array<std::vector<Face>, 2> faces;
-  for (std::size_t r = 0; r < 2; ++r) {
-    std::vector<int> layout_vertex;
-    std::vector<std::array<int, 8>> corner_vertex;
-    try {
-      layout_vertex = core::require(list[r], "layout_vertex", in).get<std::vector<int>>();
-      const core::Json& pc = core::require(list[r], "polycube", in);
-      if (pc.contains("profile") && !pc["profile"].is_null()) return std::nullopt;
-      corner_vertex = core::require(pc, "corner_vertex", in).get<std::vector<std::array<int, 8>>>();
-    } catch (const core::Json::exception& x) {
-      throw core::InvalidInputError(in + ": malformed rings[" + std::to_string(r) + "] layout_vertex or polycube.corner_vertex: " + x.what());
-    }
-    for (std::size_t k = 0; k < corner_vertex.size(); ++k)
-      for (int across = 1; across <= 2; ++across)
-        for (int level = 0; level <= 1; ++level) {
-          Face f{static_cast<int>(k), across, level, {}};
-          for (int i = 0; i < 4; ++i) {
-            const int a = i % 2, w = i / 2;
-            const int corner = a + 2 * (across == 1 ? level : w) + 4 * (across == 2 ? level : w);
-            const int v = corner_vertex[k][static_cast<std::size_t>(corner)];
-            if (v < 0 || v >= static_cast<int>(layout_vertex.size()))
-              throw core::InvalidInputError(in + ": rings[" + std::to_string(r) + "].polycube.corner_vertex is out of range");
-            f.corner[static_cast<std::size_t>(i)] = layout_vertex[static_cast<std::size_t>(v)];
-          }
-          faces[r].push_back(f);
-        }
-  }
-  auto sorted = [](std::array<int, 4> c) {
-    std::sort(c.begin(), c.end());
-    return c;
-  };
-  for (const Face& f0 : faces[0])
-    for (const Face& f1 : faces[1]) {
-      if (sorted(f0.corner) != sorted(f1.corner)) continue;
-      SharedFace s;
-      s.sector = {f0.sector, f1.sector}, s.across = {f0.across, f1.across}, s.level = {f0.level, f1.level};
-      for (int i = 0; i < 3; ++i) {
-        const int v = f1.corner[static_cast<std::size_t>(i == 2 ? 2 : i)];  // ring 1's (0,0), (1,0), (0,1)
-        const auto at = std::find(f0.corner.begin(), f0.corner.end(), v) - f0.corner.begin();
-        s.frame[static_cast<std::size_t>(i)] = {static_cast<double>(at % 2), static_cast<double>(at / 2)};
-      }
-      return s;
-    }
-  return std::nullopt;
-}
-
 // Tori: every ring's cubes, numbered ring after ring (a ring with a profile: sector after sector,
 // the profile's cells in order within each); a = 0 and a = 1 are cross sections (shared with the
 // neighbouring cube), the faces without a neighbouring cell lie on the surface. Rings are
 // translated apart in polycube space so their points never coincide.
-tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& params, const std::optional<SharedFace>& shared = std::nullopt) {
+tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& params) {
   const auto rings = std::make_shared<const std::vector<Ring>>(std::move(list));
   tmesh::PolycubeMaps m;
   struct Cube {
@@ -315,7 +226,6 @@ tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& param
   std::vector<Cube> cube;
   bool explicit_blocks = false;
   for (const Ring& r : *rings) explicit_blocks = explicit_blocks || !r.cuts[1].empty() || !r.cuts[2].empty() || !r.embedding.profile.empty();
-  explicit_blocks = explicit_blocks || shared.has_value();
   const int n = 1 << params.level;
   for (std::size_t r = 0; r < rings->size(); ++r) {
     const Ring& ring = (*rings)[r];
@@ -338,17 +248,7 @@ tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& param
       for (int c = 0; c < cells; ++c) {
         cube.push_back({static_cast<int>(r), k, c});
         m.boundary.push_back({0, 0, 1, 1, 1, 1});  // of the square ring's cubes; with explicit blocks (profiles, cuts) not used
-        if (!explicit_blocks) continue;
-        m.blocks.push_back(cell_blocks[static_cast<std::size_t>(c)]);
-        if (shared && r < 2 && k == shared->sector[r]) {
-          // The shared face is inside the solid: its blocks keep the pillow's layout (so the cross
-          // sections conform with the neighbouring cubes) but are not on the surface.
-          int axis = shared->across[r];
-          if (ring.swap) axis = 3 - axis;
-          const auto f = static_cast<std::size_t>(2 * axis + shared->level[r]);
-          m.boundary.back()[f] = 0;
-          for (tmesh::Block& b : m.blocks.back()) b.boundary[f] = 0;
-        }
+        if (explicit_blocks) m.blocks.push_back(cell_blocks[static_cast<std::size_t>(c)]);
       }
   }
   // Sector coordinates of cube c's parameters.
@@ -362,24 +262,12 @@ tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& param
     const Cube& q = cube.at(static_cast<std::size_t>(c));
     return std::make_pair(q.ring, polycube::cell_point((*rings)[static_cast<std::size_t>(q.ring)].embedding, q.sector, sector(c, abc)));
   };
-  // A point of the shared face as ring 0's (sector, sector coordinates), so both rings give it one
-  // polycube point and one physical point.
-  auto on_shared = [rings, cube, sector, shared](int c, const std::array<double, 3>& abc) -> std::optional<std::array<double, 3>> {
-    if (!shared) return std::nullopt;
-    const Cube& q = cube.at(static_cast<std::size_t>(c));
-    return shared->on_face(q.ring, q.sector, (*rings)[static_cast<std::size_t>(q.ring)].embedding.ring, sector(c, abc));
-  };
-  m.polycube = [local, rings, shared, on_shared](int c, const tmesh::Vec3& abc) {
-    if (const auto y = on_shared(c, abc)) return polycube::cell_point((*rings)[0].embedding, shared->sector[0], *y);
+  m.polycube = [local](int c, const tmesh::Vec3& abc) {
     auto [r, x] = local(c, abc);
     x[0] += 10.0 * r;  // the round ring's radius is 2
     return x;
   };
-  m.physical = [local, rings, cube, sector, shared, on_shared](int c, const tmesh::Vec3& abc) {
-    if (const auto y = on_shared(c, abc)) {
-      if (const auto s = (*rings)[0].surface->physical(shared->sector[0], *y)) return *s;
-      throw core::NumericalError("tmesh: a point of the face the rings share is not on ring 0's surface");
-    }
+  m.physical = [local, rings, cube, sector](int c, const tmesh::Vec3& abc) {
     const auto [r, x] = local(c, abc);
     const Ring& ring = (*rings)[static_cast<std::size_t>(r)];
     if (const auto s = ring.surface->physical(cube.at(static_cast<std::size_t>(c)).sector, sector(c, abc))) return *s;
@@ -579,9 +467,7 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
       return r;
     }
     try {
-      const std::optional<SharedFace> shared = kind == "tori" && !std::getenv("VOLTS_NOSHARE") ? shared_face(in, j["rings"]) : std::nullopt;
-      if (shared) core::log("the rings share one cube face (the disk where the tori meet): conforming");
-      r.maps = ring_maps(std::move(rings), params, shared);
+      r.maps = ring_maps(std::move(rings), params);
     } catch (const core::InvalidInputError& e) {  // a profile tmesh cannot lay blocks on (tmesh::profile_blocks)
       throw core::InvalidInputError(in + ": polycube.profile: " + e.what());
     } catch (const core::TopologyError& e) {

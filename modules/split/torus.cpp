@@ -475,7 +475,9 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
     for (int x : A)
       if (std::find(disk_vertices.begin(), disk_vertices.end(), x) != disk_vertices.end())
         throw core::TopologyError("split: the first cross section of a torus runs through the disk where it meets the other torus");
-    dc = disk_cuts(mesh, *disk, u, v, {std::getenv("VOLTS_SU") ? std::atof(std::getenv("VOLTS_SU")) : 1.0 / prm.torus_cubes, std::getenv("VOLTS_SV") ? std::atof(std::getenv("VOLTS_SV")) : 0.25});
+    // The disk's sector spans at least one cube of the ring (narrower, its T-mesh folded: session
+    // 13), its tube span at least a quarter turn.
+    dc = disk_cuts(mesh, *disk, u, v, {1.0 / prm.torus_cubes, 0.25});
     u = periodic_harmonic_field(mesh, A, dc->u);
     v = periodic_harmonic_field(mesh, Lr, dc->v);
     std::vector<char> in_disk(mesh.number_of_vertices(), 0);
@@ -644,7 +646,6 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
     if (labels_at[x].size() != 2 || cs < 0 || line < 0)
       throw core::TopologyError("split: cuts of the torus meet at vertex " + std::to_string(x) + " other than a cross section crossing a longitudinal line");
     line -= kLongitudeLabel;
-    if (std::getenv("VOLTS_DBG")) fprintf(stderr, "DBG crossing cs %d line %d vertex %d u %.9f v %.9f disk %d\n", cs, line, x, u[x], v[x], disk ? (int)(std::find(disk->rim.begin(), disk->rim.end(), x) != disk->rim.end()) : -1);
     if (!crossing.emplace(std::pair{cs, line}, x).second)
       throw core::TopologyError("split: cross section " + std::to_string(cs) + " crosses longitudinal line " + std::to_string(line) +
                                 " more than once; the sharp curves are too wavy for the harmonic cross sections — set split.cross_section_plane or use route: tet");
