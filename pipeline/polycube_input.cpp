@@ -11,12 +11,14 @@
 
 #include "core/errors.h"
 #include "core/log.h"
+#include "polycube/connector.h"
 #include "polycube/difference.h"
 #include "polycube/embedding.h"
 #include "polycube/polycube.h"
 #include "polycube/structure.h"
 #include "stage_main.h"
 #include "surface/mesh_json.h"
+#include "tmesh/complex.h"
 #include "tmesh/pillow.h"
 #include "volmap/volmap.h"
 
@@ -276,6 +278,141 @@ tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& param
   return m;
 }
 
+// A connector cube between the two rings (split.genus2: connector; polycube/connector.h): the
+// rings' cubes and the connector as one complex of glued cubes (tmesh/complex.h), pillowed as a
+// whole so that the pillow wraps around the concave edges where the connector stands on a ring's
+// face (a per-cube pillow cannot conform there). Cubes: the rings' sectors as ring_maps numbers
+// them, then the connector. A point of a block may lie in a neighbouring cube: it is carried
+// there first; points of the faces the connector shares with the rings are the rings' (their
+// surface map of the disk), so both sides give one polycube point and one physical point.
+tmesh::PolycubeMaps connector_maps(const std::string& in, std::vector<Ring> list, const core::Json& rings_json, const core::Json& cj,
+                                   const tmesh::Params& params) {
+  if (list.size() != 2) throw core::InvalidInputError(in + ": a connector needs exactly two rings");
+  for (const Ring& r : list)
+    if (!r.embedding.profile.empty() || !r.cuts[1].empty() || !r.cuts[2].empty())
+      throw core::InvalidInputError(in + ": rings with a rectilinear profile or sharp-curve cuts cannot take a connector yet");
+  if (params.pillow_layers < 1) throw core::ConfigError("tmesh.pillow_layers must be at least 1 for a connector cube between two rings");
+  std::shared_ptr<volmap::Locator> neck;
+  {
+    const volmap::VolumeMap vm = volmap::from_json(core::require(cj, "volume_map", in), in);
+    if (vm.flipped_tets > 0)
+      throw core::NumericalError(in + ": the connector's volume map has " + std::to_string(vm.flipped_tets) +
+                                 " flipped tets, so the spline would fold (see polycube_tets_mapped.vtu)");
+    if (vm.parameter.empty() || vm.tets.empty()) throw core::InvalidInputError(in + ": the connector's volume map has no points or no tets");
+    neck = std::make_shared<volmap::Locator>(vm);
+  }
+  const std::array<int, 8> neck_corner = polycube::connector_corners(cj, in);
+  std::array<int, 2> first{0, list[0].embedding.ring};
+  const int nk = list[0].embedding.ring + list[1].embedding.ring;  // the connector's cube
+  tmesh::CubeComplex k;
+  k.glue.resize(static_cast<std::size_t>(nk + 1));
+  for (int r = 0; r < 2; ++r)
+    for (int i = 0; i < list[static_cast<std::size_t>(r)].embedding.ring; ++i) {
+      tmesh::AxisMap next;
+      next.t = {-1, 0, 0};
+      tmesh::glue_faces(k, first[r] + i, 1, first[r] + (i + 1) % list[static_cast<std::size_t>(r)].embedding.ring, 0, next);
+    }
+  // Each end of the connector onto the ring cube face with the same four corner vertices.
+  for (int r = 0; r < 2; ++r) {
+    const Ring& ring = list[static_cast<std::size_t>(r)];
+    std::vector<int> layout_vertex;
+    std::vector<std::array<int, 8>> corner_vertex;
+    try {
+      layout_vertex = core::require(rings_json[static_cast<std::size_t>(r)], "layout_vertex", in).get<std::vector<int>>();
+      corner_vertex = core::require(core::require(rings_json[static_cast<std::size_t>(r)], "polycube", in), "corner_vertex", in)
+                          .get<std::vector<std::array<int, 8>>>();
+    } catch (const core::Json::exception& x) {
+      throw core::InvalidInputError(in + ": malformed rings[" + std::to_string(r) + "] layout_vertex or polycube.corner_vertex: " + x.what());
+    }
+    if (static_cast<int>(corner_vertex.size()) != ring.embedding.ring) throw core::InvalidInputError(in + ": rings[" + std::to_string(r) + "].polycube.corner_vertex does not match its ring");
+    // Layout vertex at cube corner i (cube parameters: b and c swapped from the sector's if swap).
+    auto cube_corner = [&](int sector, int i) {
+      int a = i & 1, b = (i >> 1) & 1, c = (i >> 2) & 1;
+      if (ring.swap) std::swap(b, c);
+      const int v = corner_vertex[static_cast<std::size_t>(sector)][static_cast<std::size_t>(a + 2 * b + 4 * c)];
+      if (v < 0 || v >= static_cast<int>(layout_vertex.size())) throw core::InvalidInputError(in + ": rings[" + std::to_string(r) + "].polycube.corner_vertex is out of range");
+      return layout_vertex[static_cast<std::size_t>(v)];
+    };
+    const int neck_face = r;  // a = 0 on ring 0's disk, a = 1 on ring 1's
+    std::array<int, 4> want{};
+    std::array<tmesh::Vec3, 4> q{};
+    for (int i = 0, n = 0; i < 8; ++i)
+      if ((i & 1) == neck_face) want[n] = neck_corner[static_cast<std::size_t>(i)], q[n++] = {double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)};
+    bool glued = false;
+    for (int sector = 0; sector < ring.embedding.ring && !glued; ++sector)
+      for (int f = 2; f < 6 && !glued; ++f) {
+        const int d = f / 2, side = f % 2;
+        std::array<int, 4> have{};
+        std::array<tmesh::Vec3, 4> p{};
+        for (int i = 0, n = 0; i < 8; ++i)
+          if (((i >> d) & 1) == side) have[n] = cube_corner(sector, i), p[n++] = {double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)};
+        std::array<int, 4> a = have, b = want;
+        std::sort(a.begin(), a.end()), std::sort(b.begin(), b.end());
+        if (a != b) continue;
+        // The axis map taking the ring cube's face corners to the connector's and its outward
+        // normal to the connector's inward one: P = Q U^T (U's columns are unit axis vectors).
+        auto at = [&](int v) { return q[static_cast<std::size_t>(std::find(want.begin(), want.end(), v) - want.begin())]; };
+        std::array<tmesh::Vec3, 3> U{}, Q{};
+        for (int e = 0; e < 2; ++e) {
+          const tmesh::Vec3 &p0 = p[0], &p1 = p[static_cast<std::size_t>(e + 1)];
+          const tmesh::Vec3 q0 = at(have[0]), q1 = at(have[static_cast<std::size_t>(e + 1)]);
+          for (int x = 0; x < 3; ++x) U[static_cast<std::size_t>(e)][x] = p1[x] - p0[x], Q[static_cast<std::size_t>(e)][x] = q1[x] - q0[x];
+        }
+        U[2] = {0, 0, 0}, Q[2] = {0, 0, 0};
+        U[2][d] = side ? 1 : -1;
+        Q[2][0] = neck_face ? -1 : 1;
+        tmesh::AxisMap m;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            double v = 0;
+            for (int e = 0; e < 3; ++e) v += Q[static_cast<std::size_t>(e)][i] * U[static_cast<std::size_t>(e)][j];
+            m.P[i][j] = static_cast<int>(std::lround(v));
+          }
+        const tmesh::Vec3 y = m.linear(p[0]), q0 = at(have[0]);
+        m.t = {q0[0] - y[0], q0[1] - y[1], q0[2] - y[2]};
+        for (int i = 1; i < 4; ++i) {
+          const tmesh::Vec3 z = m(p[static_cast<std::size_t>(i)]), w = at(have[static_cast<std::size_t>(i)]);
+          if (z != w) throw core::InvalidInputError(in + ": the connector's end does not lie on ring " + std::to_string(r) + "'s face as a square");
+        }
+        tmesh::glue_faces(k, first[r] + sector, f, nk, neck_face, m);
+        glued = true;
+      }
+    if (!glued) throw core::InvalidInputError(in + ": no cube face of ring " + std::to_string(r) + " has the corners of the connector's end");
+  }
+  const auto complex = std::make_shared<const tmesh::CubeComplex>(std::move(k));
+  const tmesh::PolycubeMaps ring = ring_maps(std::move(list), params);
+  tmesh::PolycubeMaps m;
+  m.blocks = tmesh::complex_blocks(*complex, 1 << params.level, params.pillow_layers);
+  m.boundary.assign(m.blocks.size(), {0, 0, 0, 0, 0, 0});
+  // The cube holding a block point; the connector's end faces belong to the rings.
+  auto where = [complex, nk](int c, const tmesh::Vec3& x) {
+    auto at = tmesh::locate(*complex, c, x);
+    if (!at) throw core::NumericalError("tmesh: a point of cube " + std::to_string(c) + " lies outside the polycube of the rings and the connector");
+    if (at->first == nk)
+      for (int f = 0; f < 2; ++f)
+        if (std::abs(at->second[0] - f) < 1e-12) {
+          const auto& g = complex->glue[static_cast<std::size_t>(nk)][static_cast<std::size_t>(f)];
+          tmesh::Vec3 y = g->map(at->second);
+          for (double& v : y) v = std::clamp(v, 0.0, 1.0);
+          return std::make_pair(g->cube, y);
+        }
+    return *at;
+  };
+  m.physical = [where, ring, neck, nk](int c, const tmesh::Vec3& x) {
+    const auto [cube, y] = where(c, x);
+    if (cube != nk) return ring.physical(cube, y);
+    const auto p = neck->physical(y);
+    if (!p) throw core::NumericalError("tmesh: a point of the connector lies outside its volume map");
+    return *p;
+  };
+  m.polycube = [where, ring, nk](int c, const tmesh::Vec3& x) {
+    const auto [cube, y] = where(c, x);
+    if (cube != nk) return ring.polycube(cube, y);
+    return tmesh::Vec3{y[0] + 30.0, y[1], y[2]};  // the rings lie within x < 13
+  };
+  return m;
+}
+
 // The polycube structure the stage wrote (structure.h), if the file has one (files written before
 // it had none and are read as before): read, checked to be a polycube and to be the structure of
 // `kind` (its counts of tori, virtual components and, for one cube, cubes). The file was checked
@@ -321,6 +458,13 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
         if (!list.is_array() || list.empty()) throw core::InvalidInputError(in + ": rings must be a non-empty list");
         for (const auto& ring : list) rings.push_back(read_ring(in, core::require(ring, "polycube", in), core::require(ring, "volume_map", in)));
       }
+    }
+    if (kind == "tori" && j.contains("connectors") && !j["connectors"].empty()) {
+      const core::Json& cs = j["connectors"];
+      if (!cs.is_array() || cs.size() != 1) throw core::InvalidInputError(in + ": connectors must be a list of one connector");
+      core::log("a connector cube joins the rings: one pillowed complex of cubes");
+      r.maps = connector_maps(in, std::move(rings), j["rings"], cs[0], params);
+      return r;
     }
     try {
       r.maps = ring_maps(std::move(rings), params);

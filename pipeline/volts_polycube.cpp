@@ -5,10 +5,12 @@
 // polycube_tets.vtu, polycube_tets_mapped.vtu).
 #include <algorithm>
 #include <functional>
+#include <optional>
 #include <utility>
 
 #include "core/errors.h"
 #include "core/log.h"
+#include "polycube/connector.h"
 #include "polycube/difference.h"
 #include "polycube/embedding.h"
 #include "polycube/polycube.h"
@@ -116,6 +118,11 @@ polycube::Structure decomposition_structure(const split::Decomposition& d, const
     } else if (x.via == "filled_patch" && A.torus >= 0 && B.torus >= 0 && A.torus != B.torus) {
       polycube::add_contact(s, "disk (patch " + std::to_string(x.index) + ")", cube_of[x.a], kTorusFace[split_face(d, x.a, -1, who)],
                             cube_of[x.b], kTorusFace[split_face(d, x.b, -1, who)]);
+    } else if (x.via == "filled_patch" && (A.torus >= 0) != (B.torus >= 0) && (A.type == ComponentType::cube || B.type == ComponentType::cube)) {
+      // A connector cube on a torus's disk: its end a = 0 on torus 0's, a = 1 on torus 1's (connector.h).
+      const int t = A.torus >= 0 ? x.a : x.b, c = A.torus >= 0 ? x.b : x.a;
+      polycube::add_contact(s, "connector end (patch " + std::to_string(x.index) + ")", cube_of[t], kTorusFace[split_face(d, t, -1, who)],
+                            cube_of[c], d.components[t].torus == 0 ? 0 : 1);
     } else {
       throw core::TopologyError(who + ": components meet on a cross section of their torus, on a hole's rim or on the disk between two "
                                 "tori; this contact is none of these");
@@ -255,9 +262,42 @@ core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::D
     r["min_volume_ratio"] = i == 0 ? vms[i].min_volume_ratio : std::min(r["min_volume_ratio"].get<double>(), vms[i].min_volume_ratio);
   }
   r["rings"] = figures;
+  // A connector cube between the tori (split.genus2: connector): mapped onto the unit cube.
+  core::Json connectors = core::Json::array();
+  std::optional<polycube::Ring> neck = polycube::connector(d);
+  volmap::VolumeMap neck_vm;
+  if (neck) {
+    polycube::ConnectorMap nm;
+    {
+      core::LogSection s("connector: surface map");
+      polycube::PatchMapParams pp;
+      pp.weights = ctx.config.polycube.weights;
+      nm = polycube::map_connector(*neck, rings[0], pp);
+    }
+    {
+      core::LogSection s("connector: volume map");
+      neck_vm = polycube::connector_volume_map(*neck, nm, ctx.config.polycube);
+    }
+    warn_if_flipped("connector: ", nm.flipped_surface_triangles, neck_vm);
+    connectors.push_back(polycube::to_json(*neck, nm, neck_vm));
+    maps.push_back(&neck_vm);
+    offsets.push_back({polycube::kRingSpacing * static_cast<double>(rings.size()), 0, 0});
+    core::Json f = volmap::report_figures(neck_vm);
+    f["flipped_surface_triangles"] = nm.flipped_surface_triangles;
+    f["max_angle_distortion_deg"] = nm.max_angle_distortion_deg;
+    r["connector"] = f;
+    r["flipped_surface_triangles"] = r["flipped_surface_triangles"].get<int>() + nm.flipped_surface_triangles;
+    r["max_angle_distortion_deg"] = std::max(r["max_angle_distortion_deg"].get<double>(), nm.max_angle_distortion_deg);
+    r["tets"] = r["tets"].get<std::size_t>() + neck_vm.tets.size();
+    r["flipped_tets"] = r["flipped_tets"].get<int>() + neck_vm.flipped_tets;
+    r["flipped_tets_before_untangling"] = r["flipped_tets_before_untangling"].get<int>() + neck_vm.flipped_tets_before_untangling;
+    r["min_volume_ratio"] = std::min(r["min_volume_ratio"].get<double>(), neck_vm.min_volume_ratio);
+  }
   {
     core::LogSection s("write");
-    write_stage(ctx, j, "tori", {{"rings", list}}, structure, r);
+    core::Json members{{"rings", list}};
+    if (neck) members["connectors"] = connectors;
+    write_stage(ctx, j, "tori", std::move(members), structure, r);
     polycube::write_rings_vtp(ctx.path("polycube.vtp"), rings, ms, false);
     polycube::write_rings_vtp(ctx.path("polycube_mapped.vtp"), rings, ms, true);
     volmap::write_vtu(ctx.path("polycube_tets.vtu"), maps, offsets, "ring");

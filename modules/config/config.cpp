@@ -202,6 +202,8 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("cross_section_point", c.split.cross_section_point, 1);
     s.get("torus_cubes", c.split.torus_cubes, 4, 16);
     s.get("hole", c.split.hole, {"auto", "torus", "difference"});
+    s.get("genus2", c.split.genus2, {"disk", "connector"});
+    s.get("connector_cut", c.split.connector_cut, 0.05, 0.95);
     s.finish();
   }
   {
@@ -369,7 +371,9 @@ std::string to_yaml(const Config& c) {
       << p[2] << YAML::EndSeq << YAML::EndSeq;
   }
   e << YAML::Key << "torus_cubes" << YAML::Value << c.split.torus_cubes;
-  e << YAML::Key << "hole" << YAML::Value << c.split.hole << YAML::EndMap;
+  e << YAML::Key << "hole" << YAML::Value << c.split.hole;
+  e << YAML::Key << "genus2" << YAML::Value << c.split.genus2;
+  e << YAML::Key << "connector_cut" << YAML::Value << c.split.connector_cut << YAML::EndMap;
   e << YAML::Key << "polycube" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "weights" << YAML::Value << c.polycube.weights;
   e << YAML::Key << "tet_max_volume_rel" << YAML::Value << c.polycube.tet_max_volume_rel;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -23,11 +24,10 @@ std::string describe_tori(const split::Decomposition& d) {
   return s.empty() ? "no torus" : s;
 }
 
-// Torus t of d with its own ids (see Ring).
-Ring make_ring(const split::Decomposition& d, int t) {
+// Components of d (a torus in ring order, or one connector cube) with their own ids (see Ring):
+// their patches, and the cross sections between them.
+Ring make_piece(const split::Decomposition& d, const split::Torus& torus, const std::string& who) {
   const split::Layout& L = d.layout;
-  const split::Torus& torus = d.tori[t];
-  const std::string who = "torus " + std::to_string(t) + " (components " + join(torus.components) + ")";
   Ring r;
   r.component = torus.components;
   std::set<int> patch_set, face_set(torus.cross_sections.begin(), torus.cross_sections.end());
@@ -105,19 +105,20 @@ Ring make_ring(const split::Decomposition& d, int t) {
       if (f.internal_face >= 0) f.internal_face = local_f.at(f.internal_face);
       for (int& v : f.corners) v = vmap(v);
     }
-    C.torus = 0;
+    const bool is_torus = C.type == split::ComponentType::torus_cube;
+    C.torus = is_torus ? 0 : -1;
     local_c[c] = static_cast<int>(s.components.size());
     s.components.push_back(std::move(C));
   }
   split::Torus T;
   for (int c : torus.components) T.components.push_back(local_c.at(c));
   for (int f : torus.cross_sections) T.cross_sections.push_back(local_f.at(f));
-  s.tori = {T};
+  if (!T.cross_sections.empty()) s.tori = {T};
   for (const auto& c : d.contacts)
     if (c.via == "internal_face" && local_c.count(c.a) && local_c.count(c.b))
       s.contacts.push_back({local_c.at(c.a), local_c.at(c.b), c.via, local_f.at(c.index)});
   s.quad_patches = static_cast<int>(R.patches.size());
-  s.genus = 1;
+  s.genus = s.tori.empty() ? 0 : 1;
   // Closed and manifold, else no volume map.
   surface::Mesh m;
   try {
@@ -134,8 +135,13 @@ Ring make_ring(const split::Decomposition& d, int t) {
 
 }  // namespace
 
-std::vector<Ring> rings(const split::Decomposition& d) {
-  const std::string unsupported = "; only one torus or two tori meeting on one filled disk can be mapped";
+namespace {
+
+// The checks rings() and connectors() share: two tori whose components are torus cubes of theirs,
+// and either one filled disk between them or one connector cube (a cube component) with a filled
+// disk to each. Returns the connector's component, or -1.
+int check_two_tori(const split::Decomposition& d) {
+  const std::string unsupported = "; only one torus, two tori meeting on one filled disk, or two tori joined by a connector cube can be mapped";
   if (d.tori.size() != 2)
     throw core::TopologyError("polycube: " + std::to_string(d.tori.size()) + " tori (" + describe_tori(d) + ")" + unsupported);
   const int n = static_cast<int>(d.components.size());
@@ -146,35 +152,72 @@ std::vector<Ring> rings(const split::Decomposition& d) {
       if (torus_of[c] >= 0) throw core::TopologyError("polycube: component " + std::to_string(c) + " is in tori " + std::to_string(torus_of[c]) + " and " + std::to_string(t));
       torus_of[c] = t;
     }
-  for (int c = 0; c < n; ++c)
-    if (torus_of[c] < 0 || d.components[c].type != split::ComponentType::torus_cube)
-      throw core::TopologyError("polycube: component " + std::to_string(c) + " (" + split::to_string(d.components[c].type) +
-                                ") is not a cube of either torus (" + describe_tori(d) + ")" + unsupported);
-  int disks = 0;
+  int connector = -1;
+  for (int c = 0; c < n; ++c) {
+    if (torus_of[c] >= 0 && d.components[c].type == split::ComponentType::torus_cube) continue;
+    if (torus_of[c] < 0 && d.components[c].type == split::ComponentType::cube && connector < 0) {
+      connector = c;
+      torus_of[c] = 2;
+      continue;
+    }
+    throw core::TopologyError("polycube: component " + std::to_string(c) + " (" + split::to_string(d.components[c].type) +
+                              ") is neither a cube of either torus nor the one connector cube (" + describe_tori(d) + ")" + unsupported);
+  }
+  std::array<int, 3> disks{0, 0, 0};  // per torus: its disks; [2]: between the tori
   for (const auto& c : d.contacts) {
     if (c.a < 0 || c.a >= n || c.b < 0 || c.b >= n)
       throw core::TopologyError("polycube: a contact names component " + std::to_string(std::max(c.a, c.b)) + ", out of range");
-    const std::string pair = "components " + std::to_string(c.a) + " (torus " + std::to_string(torus_of[c.a]) + ") and " + std::to_string(c.b) +
-                             " (torus " + std::to_string(torus_of[c.b]) + ") meet via " + c.via + " " + std::to_string(c.index);
+    auto label = [&](int x) { return std::to_string(x) + (torus_of[x] == 2 ? " (connector)" : " (torus " + std::to_string(torus_of[x]) + ")"); };
+    const std::string pair = "components " + label(c.a) + " and " + label(c.b) + " meet via " + c.via + " " + std::to_string(c.index);
     if (torus_of[c.a] == torus_of[c.b]) {
-      if (c.via != "internal_face") throw core::TopologyError("polycube: " + pair + ", not a cross section of their torus");
+      if (c.via != "internal_face" || torus_of[c.a] == 2) throw core::TopologyError("polycube: " + pair + ", not a cross section of their torus");
     } else {
       if (c.via != "filled_patch") throw core::TopologyError("polycube: " + pair + unsupported);
-      ++disks;
+      const int ta = torus_of[c.a], tb = torus_of[c.b];
+      if (ta == 2 || tb == 2) ++disks[ta == 2 ? tb : ta];
+      else ++disks[2];
     }
   }
-  if (disks != 1)
-    throw core::TopologyError("polycube: the tori meet on " + std::to_string(disks) + " filled disks (" + describe_tori(d) + ")" + unsupported);
+  if (connector >= 0 && disks != std::array<int, 3>{1, 1, 0})
+    throw core::TopologyError("polycube: component " + std::to_string(connector) + " (cube) is not a cube of either torus, nor a connector "
+                              "joined to each torus by one filled disk (it meets torus 0 on " + std::to_string(disks[0]) + ", torus 1 on " +
+                              std::to_string(disks[1]) + "; the tori meet on " + std::to_string(disks[2]) + "; " + describe_tori(d) + ")" + unsupported);
+  if (connector < 0 && disks[2] != 1)
+    throw core::TopologyError("polycube: the tori meet on " + std::to_string(disks[2]) + " filled disks (" + describe_tori(d) + ")" + unsupported);
+  return connector;
+}
+
+}  // namespace
+
+std::vector<Ring> rings(const split::Decomposition& d) {
+  const int connector = check_two_tori(d);
   std::vector<Ring> r;
-  for (int t = 0; t < 2; ++t) r.push_back(make_ring(d, t));
-  // Every fill triangle closes both tori: the disk lies in one patch of each.
+  for (int t = 0; t < 2; ++t) {
+    const split::Torus& torus = d.tori[static_cast<std::size_t>(t)];
+    r.push_back(make_piece(d, torus, "torus " + std::to_string(t) + " (components " + join(torus.components) + ")"));
+  }
+  // Every fill triangle closes both tori (the disk lies in one patch of each), or (a connector)
+  // exactly one of them.
   for (std::size_t x = 0; x < d.layout.triangles.size(); ++x) {
     if (!d.layout.filled[x]) continue;
+    int in = 0;
     for (int t = 0; t < 2; ++t)
-      if (std::find(r[t].layout_triangle.begin(), r[t].layout_triangle.end(), static_cast<int>(x)) == r[t].layout_triangle.end())
-        throw core::TopologyError("polycube: fill triangle " + std::to_string(x) + " is in no patch of torus " + std::to_string(t) +
-                                  " (components " + join(d.tori[t].components) + "): the tori do not meet on one filled disk");
+      in += std::find(r[t].layout_triangle.begin(), r[t].layout_triangle.end(), static_cast<int>(x)) != r[t].layout_triangle.end();
+    if (in != (connector < 0 ? 2 : 1))
+      throw core::TopologyError("polycube: fill triangle " + std::to_string(x) + " closes " + std::to_string(in) + " of the two tori (" +
+                                describe_tori(d) + "): " + (connector < 0 ? "the tori do not meet on one filled disk" : "each disk must close one torus"));
   }
+  return r;
+}
+
+std::optional<Ring> connector(const split::Decomposition& d) {
+  const int c = check_two_tori(d);
+  if (c < 0) return std::nullopt;
+  split::Torus one;
+  one.components = {c};
+  Ring r = make_piece(d, one, "connector (component " + std::to_string(c) + ")");
+  if (r.decomposition.components[0].faces.size() != 6)
+    throw core::TopologyError("polycube: the connector (component " + std::to_string(c) + ") does not have six faces");
   return r;
 }
 

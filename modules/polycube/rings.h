@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,8 @@
 
 namespace volts::polycube {
 
-/// One torus of a decomposition as a one-torus decomposition of its own closed surface, with its
-/// own ids: vertices in increasing layout order, then triangles — its surface triangles in layout
+/// One torus (or a connector cube) of a decomposition as a one-torus (one-cube) decomposition of
+/// its own closed surface, with its own ids: vertices in increasing layout order, then triangles — its surface triangles in layout
 /// order followed by its fill triangles, each oriented outward from this torus (a fill triangle
 /// stored the other way round in the layout is reversed) — patches and internal faces in layout
 /// order, components in ring order (component k is the k-th of the torus).
@@ -33,10 +34,18 @@ struct Ring {
 };
 
 /// The rings of a decomposition into exactly two tori of torus cubes that meet on one filled disk
-/// (every fill triangle in exactly one patch of each torus). Throws core::TopologyError naming
-/// the components involved for any other component graph: other than two tori, components in no
-/// torus, tori meeting other than on one filled disk, a torus surface that is not closed.
+/// (every fill triangle in exactly one patch of each torus), or that a connector cube joins
+/// (split.genus2: connector; each torus closed by its own disk, a whole patch of the torus and an
+/// end face of the connector). Throws core::TopologyError naming the components involved for any
+/// other component graph: other than two tori, components in no torus (but one connector),
+/// tori meeting other than on one filled disk or through one connector, a torus surface that is
+/// not closed.
 std::vector<Ring> rings(const split::Decomposition& d);
+
+/// The connector cube of such a decomposition as a one-cube decomposition of its own closed
+/// surface (its sides and both disks; Ring's ids, no torus), or nullopt if the tori meet on a
+/// disk. Throws what rings() throws.
+std::optional<Ring> connector(const split::Decomposition& d);
 
 /// The volume map of a one-torus decomposition whose layout triangles (fills included) are the
 /// torus's closed surface: TetGen tets of at most params.tet_max_volume_rel of its volume,

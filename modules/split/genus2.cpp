@@ -7,7 +7,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <queue>
 #include <set>
+
+#include <Eigen/Dense>
 
 #include "core/errors.h"
 #include "split/isoline.h"
@@ -54,9 +57,55 @@ bool find_waist(const Mesh& m, const std::vector<double>& f, double c, std::vect
   return false;
 }
 
+// The loop of {f = c} (inserted) that has genus-1 regions on both sides, given the other cuts.
+std::vector<int> separating_loop(Mesh& mesh, std::vector<double>& f, double c, const std::vector<std::vector<int>>& other) {
+  for (const auto& loop : insert_isoline(mesh, f, c)) {
+    auto loops = other;
+    loops.push_back(loop);
+    const auto label = regions_cut_by(mesh, loops);
+    if (*std::max_element(label.begin(), label.end()) == static_cast<int>(loops.size())) return loop;
+  }
+  throw std::logic_error("split: a waist loop vanished on insertion");
+}
+
+// Shortest edge path on m from a to b through vertices not blocked (a and b may be).
+std::vector<int> shortest_path(const Mesh& m, int a, int b, const std::vector<char>& blocked) {
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> dist(m.number_of_vertices(), inf);
+  std::vector<int> from(m.number_of_vertices(), -1);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  dist[a] = 0;
+  queue.push({0, a});
+  auto pos = [&](int v) {
+    const auto& p = m.point(Mesh::Vertex_index(v));
+    return Eigen::Vector3d(p.x(), p.y(), p.z());
+  };
+  while (!queue.empty()) {
+    const auto [d, x] = queue.top();
+    queue.pop();
+    if (d > dist[x] || x == b) continue;
+    for (auto h : CGAL::halfedges_around_source(Mesh::Vertex_index(x), m)) {
+      const int y = static_cast<int>(m.target(h));
+      if (blocked[y] && y != b) continue;
+      const double dy = d + (pos(x) - pos(y)).norm();
+      if (dy < dist[y]) dist[y] = dy, from[y] = x, queue.push({dy, y});
+    }
+  }
+  if (dist[b] == inf) return {};
+  std::vector<int> path;
+  for (int x = b; x != -1; x = from[x]) path.push_back(x);
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
 }  // namespace
 
 Decomposition split_two_tori(const Mesh& input, const Params& prm) {
+  if (!(prm.connector_cut >= 0.05 && prm.connector_cut <= 0.95)) throw core::ConfigError("split.connector_cut must be in [0.05, 0.95]");
+  if (prm.genus2 != "disk" && prm.genus2 != "connector")
+    throw core::ConfigError("split.genus2 must be 'disk' or 'connector', not '" + prm.genus2 + "'");
+  const bool connector = prm.genus2 == "connector";
   Mesh mesh = input;
   CriticalPoints cp;
   std::vector<double> f = height_field(mesh, prm, &cp);
@@ -71,34 +120,64 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
     throw core::TopologyError("split: no level set of the harmonic field separates the genus-2 surface into two tori (" +
                               std::to_string(cp.minima.size()) + " min, " + std::to_string(cp.maxima.size()) + " max, " +
                               std::to_string(cp.saddle_count()) + " saddles); set split.extreme_points to the two ends of the part");
-  std::vector<int> waist;
-  for (const auto& loop : insert_isoline(mesh, f, level)) {
-    const auto label = regions_cut_by(mesh, {loop});
-    if (*std::max_element(label.begin(), label.end()) == 1 && region_genus(mesh, label, 0) == 1 && region_genus(mesh, label, 1) == 1)
-      waist = loop;
+  // The cut levels: the waist, or (connector) one level on either side of it, the fraction
+  // `connector_cut` of the way from the waist to the saddle at the next hole (an eight's neck is
+  // the middle of its bar: 0.5; a rod's shank runs almost to its holes: 0.85).
+  std::vector<double> levels{level};
+  if (connector) {
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    for (const auto& s : cp.saddles) {
+      const double x = f[static_cast<std::size_t>(s.first)];
+      if (x < level) lo = std::max(lo, x);
+      else hi = std::min(hi, x);
+    }
+    if (!std::isfinite(lo) || !std::isfinite(hi)) throw core::TopologyError("split: the waist of the genus-2 surface is not between two saddles");
+    levels = {level_between_vertices(level + prm.connector_cut * (lo - level), f), level_between_vertices(level + prm.connector_cut * (hi - level), f)};
   }
-  if (waist.empty()) throw std::logic_error("split: the waist loop vanished on insertion");
-  const auto side = regions_cut_by(mesh, {waist});
+  std::vector<std::vector<int>> cut_loops;
+  for (const double c : levels) cut_loops.push_back(separating_loop(mesh, f, c, cut_loops));
+  const auto region = regions_cut_by(mesh, cut_loops);
+  // Regions: ring 0 (genus 1), [the neck], ring 1; ring i has cut_loops[i ? last : 0] as its rim.
+  const int n_regions = static_cast<int>(cut_loops.size()) + 1;
+  std::vector<int> genus(static_cast<std::size_t>(n_regions));
+  for (int r = 0; r < n_regions; ++r) genus[static_cast<std::size_t>(r)] = region_genus(mesh, region, r);
+  std::vector<int> rings_r, neck_r;
+  for (int r = 0; r < n_regions; ++r) (genus[static_cast<std::size_t>(r)] == 1 ? rings_r : neck_r).push_back(r);
+  if (rings_r.size() != 2 || neck_r.size() != (connector ? 1u : 0u))
+    throw core::TopologyError("split: the cuts of the genus-2 surface do not leave two tori" + std::string(connector ? " and a neck" : ""));
 
-  // Sides, and the disk that fills the waist (once: the second torus uses it reversed).
   Layout L;
   copy_mesh(mesh, L);
-  std::array<std::vector<int>, 2> tris;
-  for (std::size_t t = 0; t < side.size(); ++t) tris[side[t]].push_back(static_cast<int>(t));
+  std::vector<std::vector<int>> tris(static_cast<std::size_t>(n_regions));
+  for (std::size_t t = 0; t < region.size(); ++t) tris[static_cast<std::size_t>(region[t])].push_back(static_cast<int>(t));
+  // Each ring's rim: the cut loop bounding its region.
+  auto rim_of = [&](int r) {
+    for (const auto& loop : cut_loops) {
+      const int a = loop[0], b = loop[1];
+      const auto h = mesh.halfedge(Mesh::Vertex_index(a), Mesh::Vertex_index(b));
+      if (region[mesh.face(h)] == r || region[mesh.face(mesh.opposite(h))] == r) return loop;
+    }
+    throw std::logic_error("split: a ring has no rim");
+  };
+  // The rings with their disks: with a waist, ring 1 uses ring 0's fill reversed; with a neck,
+  // each ring fills its own rim and the neck uses both fills reversed.
   std::array<Submesh, 2> torus;
-  torus[0] = submesh(L, tris[0], std::vector<char>(tris[0].size(), 0));
-  const std::vector<int> fill = fill_openings(torus[0], L, true);  // no chords: flat triangles once the disk is pressed onto a face
-  {
-    std::vector<int> t1 = tris[1];
-    std::vector<char> rev(t1.size(), 0);
-    t1.insert(t1.end(), fill.begin(), fill.end());
-    rev.resize(t1.size(), 1);
-    torus[1] = submesh(L, t1, rev);
+  std::array<std::vector<int>, 2> fill, rim;
+  for (int i = 0; i < 2; ++i) {
+    const int r = rings_r[static_cast<std::size_t>(i)];
+    rim[i] = rim_of(r);
+    std::vector<int> t = tris[static_cast<std::size_t>(r)];
+    std::vector<char> rev(t.size(), 0);
+    if (i == 1 && !connector) {
+      fill[1] = fill[0];
+      t.insert(t.end(), fill[0].begin(), fill[0].end());
+      rev.resize(t.size(), 1);
+      torus[1] = submesh(L, t, rev);
+    } else {
+      torus[i] = submesh(L, t, rev);
+      fill[i] = fill_openings(torus[i], L, true);  // no chords: flat triangles once the disk is pressed onto a face
+    }
   }
-  std::set<int> disk_vertices(waist.begin(), waist.end());
-  for (int t : fill)
-    for (int v : L.triangles[t]) disk_vertices.insert(v);
-  const std::set<int> fill_set(fill.begin(), fill.end());
   const int n_input = static_cast<int>(mesh.number_of_vertices());
 
   Decomposition d;
@@ -107,17 +186,21 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
   d.critical_max = static_cast<int>(cp.maxima.size());
   d.critical_saddle = cp.saddle_count();
   d.layout.points = L.points;
+  std::set<int> all_fill;
+  for (const auto& fl : fill) all_fill.insert(fl.begin(), fl.end());
   std::array<int, 2> disk_patch{-1, -1}, disk_component{-1, -1};
+  std::array<std::array<int, 4>, 2> disk_corners{};  // layout ids
   for (int i = 0; i < 2; ++i) {
     Submesh& T = torus[i];
-    // The first field on this torus (the disk at the waist's level), and a meridian: a level set
+    const double ring_level = connector ? levels[static_cast<std::size_t>(std::find(cut_loops.begin(), cut_loops.end(), rim[i]) - cut_loops.begin())] : level;
+    // The first field on this torus (the disk at its rim's level), and a meridian: a level set
     // between two saddles on this side that does not separate the closed torus.
     std::vector<double> g(T.mesh.number_of_vertices());
-    for (std::size_t v = 0; v < g.size(); ++v) g[v] = T.layout_vertex[v] < n_input ? f[T.layout_vertex[v]] : level;
-    const bool below = *std::min_element(g.begin(), g.end()) < level;
+    for (std::size_t v = 0; v < g.size(); ++v) g[v] = T.layout_vertex[v] < n_input ? f[T.layout_vertex[v]] : ring_level;
+    const bool below = *std::min_element(g.begin(), g.end()) < ring_level;
     std::vector<int> meridian;
     for (const auto& [w, c] : gaps) {
-      if ((c < level) != below) continue;
+      if ((c < ring_level) != below) continue;
       Mesh copy = T.mesh;
       std::vector<double> h = g;
       try {
@@ -136,11 +219,33 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
     }
     if (meridian.empty())
       throw core::TopologyError("split: torus " + std::to_string(i) + " of the genus-2 surface has no level set around its tube; set split.extreme_points");
-    std::vector<int> protect;
-    for (std::size_t v = 0; v < T.layout_vertex.size(); ++v)
-      if (disk_vertices.count(T.layout_vertex[v])) protect.push_back(static_cast<int>(v));
-    Decomposition t = split_torus(T.mesh, {}, prm, protect, meridian);
-
+    Decomposition t;
+    if (connector) {
+      // The disk as one whole patch of this torus: an end face of the connector.
+      std::map<int, int> local;
+      for (std::size_t v = 0; v < T.layout_vertex.size(); ++v) local[T.layout_vertex[v]] = static_cast<int>(v);
+      DiskPatch disk;
+      for (int v : rim[i]) disk.rim.push_back(local.at(v));
+      std::set<int> inside;
+      for (int x : fill[i])
+        for (int v : L.triangles[x])
+          if (std::find(rim[i].begin(), rim[i].end(), v) == rim[i].end()) inside.insert(local.at(v));
+      disk.inside.assign(inside.begin(), inside.end());
+      t = split_torus(T.mesh, {}, prm, {}, meridian, &disk);
+      for (int k = 0; k < 4; ++k) disk_corners[i][k] = T.layout_vertex[static_cast<std::size_t>(disk.corners[k])];
+    } else {
+      // The waist's disk inside one patch of each torus: no cut crosses it (the tori meet on it
+      // non-conformingly; made a whole shared face, 97 % of the eight's elements were valid:
+      // docs/status.md, session 13).
+      std::set<int> disk_vertices(rim[i].begin(), rim[i].end());
+      for (int x : fill[i])
+        for (int v : L.triangles[x]) disk_vertices.insert(v);
+      std::vector<int> protect;
+      for (std::size_t v = 0; v < T.layout_vertex.size(); ++v)
+        if (disk_vertices.count(T.layout_vertex[v])) protect.push_back(static_cast<int>(v));
+      t = split_torus(T.mesh, {}, prm, protect, meridian);
+    }
+    const std::set<int> fill_set(fill[i].begin(), fill[i].end());
     // Merge: vertices new on this torus and its non-disk triangles are appended to the layout.
     std::vector<int> vmap(t.layout.points.size());
     for (std::size_t v = 0; v < vmap.size(); ++v) {
@@ -175,7 +280,14 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
       for (int& v : P.corners) v = vmap[v];
       for (auto& s : P.sides)
         for (int& v : s) v = vmap[v];
-      if (has_disk) disk_patch[i] = patch_offset + static_cast<int>(p);
+      if (has_disk) {
+        if (connector)
+          for (int x : P.triangles)
+            if (x >= 0) throw core::TopologyError("split: torus " + std::to_string(i) + "'s patch " + std::to_string(p) +
+                                                  " holds part of its disk and part of the surface; the connector's end must be a whole patch");
+        if (disk_patch[i] >= 0) throw core::TopologyError("split: the disk of torus " + std::to_string(i) + " spans several of its patches");
+        disk_patch[i] = patch_offset + static_cast<int>(p);
+      }
       d.layout.patches.push_back(std::move(P));
     }
     for (auto F : t.layout.internal_faces) {
@@ -213,11 +325,103 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
       d.longitude_lines.push_back(l);
     }
   }
-  // The disk's triangles, once, at the end; patch references resolved.
+  // The neck (connector): a cube whose bottom and top are the rings' disks and whose sides are
+  // the annulus between the two rims cut by the shortest paths joining their corners (Liu et al.
+  // §6: curves in the region between the two tori by the shortest distance on the surface).
+  int neck_component = -1, neck_bottom = -1, neck_top = -1;
+  if (connector) {
+    std::vector<int> t = tris[static_cast<std::size_t>(neck_r[0])];
+    std::vector<char> rev(t.size(), 0);
+    for (int i = 0; i < 2; ++i) t.insert(t.end(), fill[i].begin(), fill[i].end());
+    rev.resize(t.size(), 1);
+    Submesh N = submesh(L, t, rev);
+    std::map<int, int> local;
+    for (std::size_t v = 0; v < N.layout_vertex.size(); ++v) local[N.layout_vertex[v]] = static_cast<int>(v);
+    const int nn = static_cast<int>(N.mesh.number_of_vertices());
+    std::vector<char> blocked(static_cast<std::size_t>(nn), 0);
+    for (std::size_t v = 0; v < N.layout_vertex.size(); ++v)
+      if (N.layout_vertex[v] >= n_input) blocked[v] = 1;  // fill vertices
+    for (int i = 0; i < 2; ++i)
+      for (int v : rim[i]) blocked[static_cast<std::size_t>(local.at(v))] = 1;
+    // Pair the corners in the rotation and direction of least total length.
+    std::array<std::array<std::vector<int>, 4>, 4> path;
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) path[a][b] = shortest_path(N.mesh, local.at(disk_corners[0][a]), local.at(disk_corners[1][b]), blocked);
+    auto length = [&](const std::vector<int>& pth) {
+      if (pth.empty()) return std::numeric_limits<double>::infinity();
+      double l = 0;
+      for (std::size_t k = 1; k < pth.size(); ++k) {
+        const auto& p = N.mesh.point(Mesh::Vertex_index(pth[k])), &q = N.mesh.point(Mesh::Vertex_index(pth[k - 1]));
+        l += std::sqrt(CGAL::squared_distance(p, q));
+      }
+      return l;
+    };
+    double best = std::numeric_limits<double>::infinity();
+    std::array<int, 4> pair{};
+    for (int rot = 0; rot < 4; ++rot)
+      for (int dir : {1, 3}) {
+        double total = 0;
+        std::array<int, 4> pr{};
+        for (int a = 0; a < 4; ++a) pr[a] = (rot + dir * a) % 4, total += length(path[a][pr[a]]);
+        if (total < best) best = total, pair = pr;
+      }
+    if (!std::isfinite(best)) throw core::TopologyError("split: the corners of the two disks are not joined across the neck");
+    std::set<Edge> cuts;
+    std::vector<char> is_corner(static_cast<std::size_t>(nn), 0);
+    for (int i = 0; i < 2; ++i) {
+      std::vector<int> loop;
+      for (int v : rim[i]) loop.push_back(local.at(v));
+      for (std::size_t k = 0; k < loop.size(); ++k) cuts.insert(edge(loop[k], loop[(k + 1) % loop.size()]));
+      for (int k = 0; k < 4; ++k) is_corner[static_cast<std::size_t>(local.at(disk_corners[i][k]))] = 1;
+    }
+    for (int a = 0; a < 4; ++a) {  // one after the other, each avoiding the ones before
+      const std::vector<int> pth = shortest_path(N.mesh, local.at(disk_corners[0][a]), local.at(disk_corners[1][pair[a]]), blocked);
+      if (pth.empty()) throw core::TopologyError("split: the neck's side curves cross; the disks' corners do not match");
+      for (std::size_t k = 1; k < pth.size(); ++k) cuts.insert(edge(pth[k - 1], pth[k]));
+      for (std::size_t k = 1; k + 1 < pth.size(); ++k) blocked[static_cast<std::size_t>(pth[k])] = 1;
+    }
+    std::vector<int> face_region;
+    const auto regs = regions(N.mesh, cuts, &face_region);
+    if (regs.size() != 6) throw core::TopologyError("split: the neck is cut into " + std::to_string(regs.size()) + " patches, not the six faces of a cube");
+    Component C;
+    C.type = ComponentType::cube;
+    neck_component = static_cast<int>(d.components.size());
+    for (std::size_t r = 0; r < regs.size(); ++r) {
+      Patch P = quad_patch(regs[r], is_corner, "neck patch", static_cast<int>(r));
+      bool disk = false;
+      for (int& x : P.triangles) {
+        const int lt = N.layout_triangle[static_cast<std::size_t>(x)];
+        if (all_fill.count(lt)) {
+          disk = true;
+          x = -1 - lt;  // resolved with the disks below
+        } else {
+          x = static_cast<int>(d.layout.triangles.size());
+          d.layout.triangles.push_back(L.triangles[static_cast<std::size_t>(lt)]);
+          d.layout.filled.push_back(0);
+        }
+      }
+      for (int& v : P.corners) v = N.layout_vertex[static_cast<std::size_t>(v)];
+      for (auto& sd : P.sides)
+        for (int& v : sd) v = N.layout_vertex[static_cast<std::size_t>(v)];
+      const int id = static_cast<int>(d.layout.patches.size());
+      if (disk) {
+        const int lt = -1 - P.triangles[0];
+        (std::count(fill[0].begin(), fill[0].end(), lt) ? neck_bottom : neck_top) = id;
+      }
+      CubeFace F;
+      F.patches = {id};
+      F.corners = P.corners;
+      C.faces.push_back(F);
+      C.patches.push_back(id);
+      d.layout.patches.push_back(std::move(P));
+    }
+    d.components.push_back(std::move(C));
+  }
+  // The disks' triangles, once, at the end; patch references resolved.
   std::map<int, int> disk_index;
-  for (int t : fill) {
+  for (int t : all_fill) {
     disk_index[t] = static_cast<int>(d.layout.triangles.size());
-    d.layout.triangles.push_back(L.triangles[t]);
+    d.layout.triangles.push_back(L.triangles[static_cast<std::size_t>(t)]);
     d.layout.filled.push_back(1);
   }
   for (auto& P : d.layout.patches) {
@@ -225,8 +429,14 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
       if (x < 0) x = disk_index.at(-1 - x);
     std::sort(P.triangles.begin(), P.triangles.end());
   }
-  if (disk_patch[0] < 0 || disk_patch[1] < 0) throw std::logic_error("split: the waist disk is in no patch");
-  d.contacts.push_back({disk_component[0], disk_component[1], "filled_patch", disk_patch[0]});
+  if (disk_patch[0] < 0 || disk_patch[1] < 0) throw std::logic_error("split: a disk is in no patch");
+  if (connector) {
+    if (neck_bottom < 0 || neck_top < 0) throw std::logic_error("split: the neck has no disk faces");
+    d.contacts.push_back({disk_component[0], neck_component, "filled_patch", disk_patch[0]});
+    d.contacts.push_back({neck_component, disk_component[1], "filled_patch", neck_top});
+  } else {
+    d.contacts.push_back({disk_component[0], disk_component[1], "filled_patch", disk_patch[0]});
+  }
   d.quad_patches = static_cast<int>(d.layout.patches.size());
   return d;
 }

@@ -2,6 +2,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "core/errors.h"
@@ -106,7 +107,7 @@ std::vector<double> harmonic_field(const Mesh& mesh, const std::vector<Constrain
   return HarmonicSolver(mesh, vs).solve(vals);
 }
 
-std::vector<double> periodic_harmonic_field(const Mesh& mesh, const std::vector<int>& cut) {
+std::vector<double> periodic_harmonic_field(const Mesh& mesh, const std::vector<int>& cut, const std::vector<Constraint>& constraints) {
   const int nv = static_cast<int>(mesh.number_of_vertices());
   const int n = static_cast<int>(cut.size());
   if (n < 3) throw core::InvalidInputError("periodic harmonic field: a cut loop needs at least 3 vertices");
@@ -129,8 +130,17 @@ std::vector<double> periodic_harmonic_field(const Mesh& mesh, const std::vector<
     for (auto h = mesh.opposite(mesh.prev(hn)); h != hp; h = mesh.opposite(mesh.prev(h))) right[h] = 1;
   }
   const auto w = cotangent_weights(mesh);
-  // Minimize sum_e w_e (u_b + s_b - u_a - s_a)^2, s = the shift of each end on that edge; u_pin = 0.
+  // Minimize sum_e w_e (u_b + s_b - u_a - s_a)^2, s = the shift of each end on that edge; u_pin = 0
+  // without constraints, else the constrained values (Dirichlet rows).
+  std::vector<double> fixed(nv, std::numeric_limits<double>::quiet_NaN());
+  for (const auto& c : constraints) {
+    if (c.vertex < 0 || c.vertex >= nv) throw core::InvalidInputError("periodic harmonic field: constrained vertex out of range");
+    if (pos[c.vertex] >= 0) throw core::InvalidInputError("periodic harmonic field: vertex " + std::to_string(c.vertex) + " is on the cut and constrained");
+    if (!std::isnan(fixed[c.vertex])) throw core::InvalidInputError("periodic harmonic field: vertex " + std::to_string(c.vertex) + " is constrained twice");
+    fixed[c.vertex] = c.value;
+  }
   const int pin = 0;
+  if (constraints.empty()) fixed[pin] = 0.0;
   std::vector<Eigen::Triplet<double>> trip;
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nv);
   std::vector<double> diag(nv, 0.0);
@@ -145,12 +155,15 @@ std::vector<double> periodic_harmonic_field(const Mesh& mesh, const std::vector<
     rhs[b] -= w[e] * t;
   }
   for (int v = 0; v < nv; ++v) trip.emplace_back(v, v, diag[v]);
-  // Pin one vertex: replace its row and column by the identity.
+  // Fixed vertices: rows and columns replaced by the identity, their columns moved to the right.
   std::vector<Eigen::Triplet<double>> kept;
-  for (const auto& tr : trip)
-    if (tr.row() != pin && tr.col() != pin) kept.push_back(tr);
-  kept.emplace_back(pin, pin, 1.0);
-  rhs[pin] = 0;
+  for (const auto& tr : trip) {
+    const bool row_fixed = !std::isnan(fixed[tr.row()]), col_fixed = !std::isnan(fixed[tr.col()]);
+    if (!row_fixed && !col_fixed) kept.push_back(tr);
+    else if (!row_fixed) rhs[tr.row()] -= tr.value() * fixed[tr.col()];
+  }
+  for (int v = 0; v < nv; ++v)
+    if (!std::isnan(fixed[v])) kept.emplace_back(v, v, 1.0), rhs[v] = fixed[v];
   Eigen::SparseMatrix<double> L(nv, nv);
   L.setFromTriplets(kept.begin(), kept.end());
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(L);
@@ -163,6 +176,7 @@ std::vector<double> periodic_harmonic_field(const Mesh& mesh, const std::vector<
     out[v] = u[v] - std::floor(u[v]);
     spread = std::max(spread, std::abs(circle_difference(out[v], out[pin], 1.0)));
   }
+  for (const auto& c : constraints) out[c.vertex] = c.value - std::floor(c.value);  // exactly, for level sets through them
   if (spread < 1e-6) throw core::TopologyError("periodic harmonic field: the cut loop separates the surface (no period around it)");
   return out;
 }

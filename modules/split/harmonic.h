@@ -49,7 +49,11 @@ std::vector<double> harmonic_field(const surface::Mesh& mesh, const std::vector<
 /// the torus is twisted). Values are returned modulo 1, in [0, 1); the difference along an edge is
 /// circle_difference(a, b, 1). Throws core::InvalidInputError for a loop that is not an edge loop
 /// of simple vertices, core::NumericalError if the solve fails (e.g. the loop separates the surface).
-std::vector<double> periodic_harmonic_field(const surface::Mesh& mesh, const std::vector<int>& cut);
+/// With constraints (vertices off the cut, values lifted consistently on the surface cut open
+/// along the loop), those are Dirichlet values instead of one pinned vertex; a constrained vertex
+/// returns exactly its value modulo 1, so a level set can pass through it.
+std::vector<double> periodic_harmonic_field(const surface::Mesh& mesh, const std::vector<int>& cut,
+                                            const std::vector<Constraint>& constraints = {});
 
 /// Critical points of a piecewise-linear field, from the sign pattern of f(u) - f(v) around each
 /// vertex's link (ties broken by vertex index, i.e. symbolic perturbation, so every vertex is

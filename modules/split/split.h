@@ -41,6 +41,13 @@ struct Params {
   std::vector<std::array<double, 3>> cross_section_point;
   int torus_cubes = 4;          ///< cube components per torus, along the ring [4, 16]
   std::string hole = "auto";    ///< a through hole becomes: "auto" (§4.3: difference if there are sharp corners), "torus" or "difference"
+  /// A genus-2 surface becomes: "disk" (two tori meeting on the disk that fills their waist) or
+  /// "connector" (two tori and a cube between them, the neck or shank, whose ends are whole faces
+  /// of the tori; Liu et al. §6, the rod and the eight)
+  std::string genus2 = "disk";
+  /// connector: its ends lie this fraction of the way from the waist to the saddle at each hole
+  /// (level sets of the first harmonic field) [0.05, 0.95]
+  double connector_cut = 0.5;
 };
 
 enum class ComponentType { cube, torus_cube, virtual_component };

@@ -31,13 +31,28 @@ bool loop_separates(const surface::Mesh& mesh, const std::vector<int>& loop);
 /// A level near c halfway between two vertex values of f (no vertex on the level set).
 double level_between_vertices(double c, const std::vector<double>& f);
 
+/// The disk where two tori meet, to be made one whole patch of each torus (Liu et al. §4.2, Fig.
+/// 6(c): primitives united on whole faces): its rim is cut into two arcs on cross sections and two
+/// on longitudinal lines, so the tori can share its control points.
+struct DiskPatch {
+  std::vector<int> rim;     ///< the loop where the disk meets the surface, in order (torus mesh ids)
+  std::vector<int> inside;  ///< the disk's vertices off the rim
+  /// Rim vertices where its arcs meet, in rim order; if -1, split_torus chooses them (the rim
+  /// points furthest along the diagonals of the torus's ring and tube fields) and returns them.
+  std::array<int, 4> corners{-1, -1, -1, -1};
+};
+
 /// A genus-1 surface without sharp corners as a ring of params.torus_cubes cube components.
 /// `sharp` are the sharp edges of `mesh` to keep as cuts (closed curves around the ring). No cut
 /// crosses a face all of whose vertices are in `protect` (the disk where two tori meet): the
 /// cross sections and longitudinal lines are spread over the rest of the ring and the tube.
 /// `first_cross_section`, if given, is a loop around the tube used instead of §4.1 steps 1–3.
+/// With `disk`, the disk is one whole patch instead (its rim's arcs lie on two cross sections and
+/// two longitudinal lines: the ring and tube fields are harmonic with those arcs as level sets),
+/// `protect` is not used, and the corners chosen are written back.
 Decomposition split_torus(const surface::Mesh& mesh, const std::set<Edge>& sharp, const Params& params,
-                          const std::vector<int>& protect = {}, const std::vector<int>& first_cross_section = {});
+                          const std::vector<int>& protect = {}, const std::vector<int>& first_cross_section = {},
+                          DiskPatch* disk = nullptr);
 
 /// A genus-2 surface as two tori that meet on a disk filling their separating loop.
 Decomposition split_two_tori(const surface::Mesh& mesh, const Params& params);

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <queue>
 #include <sstream>
 
@@ -70,10 +71,12 @@ bool has_ring_section(const Mesh& m, const std::vector<double>& f, double c) {
 
 // Shortest edge loop that leaves meridian A on one side of A[i] and comes back from the other side
 // without touching A elsewhere: it runs once around the ring. Returns its length (inf if none).
-double ring_loop_through(const Mesh& m, const std::vector<int>& A, int i, std::vector<int>* out) {
+// Vertices in `blocked` are avoided.
+double ring_loop_through(const Mesh& m, const std::vector<int>& A, int i, const std::vector<int>& blocked, std::vector<int>* out) {
   const int a = A[i], n = static_cast<int>(A.size());
   std::vector<char> on_a(m.number_of_vertices(), 0);
   for (int v : A) on_a[v] = 1;
+  for (int v : blocked) on_a[v] = 1;
   const auto hn = m.halfedge(VI(a), VI(A[(i + 1) % n])), hp = m.halfedge(VI(a), VI(A[(i + n - 1) % n]));
   std::vector<char> right(m.number_of_vertices(), 0);
   for (auto h = m.opposite(m.prev(hn)); h != hp; h = m.opposite(m.prev(h))) right[m.target(h)] = 1;
@@ -119,12 +122,12 @@ double ring_loop_through(const Mesh& m, const std::vector<int>& A, int i, std::v
 // The shortest loop once around the ring through any vertex of A (at most 64 tried, evenly spaced).
 // The shortest through a given vertex may wind around the tube as well (a helix through the outer
 // equator is shorter than the outer equator); the shortest of all does not.
-std::vector<int> shortest_ring_loop(const Mesh& m, const std::vector<int>& A) {
+std::vector<int> shortest_ring_loop(const Mesh& m, const std::vector<int>& A, const std::vector<int>& blocked = {}) {
   const std::size_t n = A.size(), step = std::max<std::size_t>(1, n / 64);
   std::vector<int> best, loop;
   double best_d = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < n; i += step) {
-    const double d = ring_loop_through(m, A, static_cast<int>(i), &loop);
+    const double d = ring_loop_through(m, A, static_cast<int>(i), blocked, &loop);
     if (d < best_d) best_d = d, best = loop;
   }
   if (best.empty()) throw core::TopologyError("split: no loop runs around the ring from the first cross section; is the surface a torus?");
@@ -158,6 +161,7 @@ struct Line {
   double v_lo = 0, v_hi = 0;  // sharp: range of v around the mean
   double sharpness = 0;
   bool corner = false;   // one of the four lines at cube edges
+  int disk_level = -1;   // closed by the disk's rim arc DiskCuts::v_arc[disk_level] (its level runs through two corners)
 };
 
 double circ_dist(double a, double b) { return std::abs(circle_difference(a, b, 1.0)); }
@@ -209,6 +213,145 @@ double between_vertices(double c, const std::vector<double>& f, double period) {
   return level;
 }
 
+// Sum of the field's steps along a chain of vertices (period 1): its change, not taken modulo 1.
+double change_along(const std::vector<int>& chain, const std::vector<double>& f) {
+  double s = 0;
+  for (std::size_t i = 0; i + 1 < chain.size(); ++i) s += circle_difference(f[chain[i]], f[chain[i + 1]], 1.0);
+  return s;
+}
+
+// The disk made one patch: its rim is cut at four corner vertices into two arcs that close
+// cross sections and two that close longitudinal lines. The cross sections through the disk are
+// the level sets of u through its corners outside the disk, closed by the rim arcs; u (and v) are
+// the periodic fields with their corner values as the only constraints (the mean of the natural
+// fields' values at the two corners of an arc, so the fields change little). The rim is smooth
+// where the tori meet (an eight's waist), so a rim with arcs of constant u would make the level
+// sets leave the corners tangentially; point constraints let them cross the rim there.
+struct DiskCuts {
+  std::vector<Constraint> u, v;
+  std::array<double, 2> u_level{}, v_level{};  // per field: the two levels (as stored), lower first going up over the disk
+  std::array<std::array<int, 2>, 2> u_ends{}, v_ends{};  // the corners each level set joins (same order as the levels)
+  std::array<std::vector<int>, 2> u_arc, v_arc;  // the rim arc closing each level set (from its first end to its second)
+};
+
+// The disk's range of a periodic field (rim and inside vertices), lifted around ref.
+std::pair<double, double> disk_range(const DiskPatch& disk, const std::vector<double>& f, double ref) {
+  double lo = 0, hi = 0;
+  for (const auto* vs : {&disk.rim, &disk.inside})
+    for (int x : *vs) lo = std::min(lo, circle_difference(ref, f[x], 1.0)), hi = std::max(hi, circle_difference(ref, f[x], 1.0));
+  return {ref + lo, ref + hi};
+}
+
+DiskCuts disk_cuts(const Mesh& m, DiskPatch& disk, const std::vector<double>& u0, const std::vector<double>& v0, const std::array<double, 2>& min_span) {
+  const auto& R = disk.rim;
+  const int nr = static_cast<int>(R.size());
+  if (nr < 8) throw core::TopologyError("split: the disk between the two tori has only " + std::to_string(nr) + " rim vertices; refine the mesh");
+  const double mu = circular_mean(R, u0), mv = circular_mean(R, v0);
+  std::vector<double> du(nr), dv(nr);  // rim values relative to the means
+  double su = 0, sv = 0;
+  for (int i = 0; i < nr; ++i) {
+    du[i] = circle_difference(mu, u0[R[i]], 1.0), dv[i] = circle_difference(mv, v0[R[i]], 1.0);
+    su = std::max(su, std::abs(du[i])), sv = std::max(sv, std::abs(dv[i]));
+  }
+  if (!(su > 0) || !(sv > 0)) throw core::TopologyError("split: the disk between the two tori has no extent around the ring or the tube");
+  std::array<int, 4> at{};  // rim positions of the corners
+  if (disk.corners[0] < 0) {
+    // The rim points furthest along the four diagonals, then moved (one rim vertex at a time) while
+    // that makes the arcs' ends agree better on the field they keep.
+    const std::array<std::array<double, 2>, 4> dirs{{{1, 1}, {1, -1}, {-1, -1}, {-1, 1}}};
+    for (int k = 0; k < 4; ++k) {
+      double best = -std::numeric_limits<double>::infinity();
+      for (int i = 0; i < nr; ++i)
+        if (const double x = dirs[k][0] * du[i] / su + dirs[k][1] * dv[i] / sv; x > best) best = x, at[k] = i;
+    }
+    std::sort(at.begin(), at.end());
+    for (int k = 0; k < 4; ++k)
+      if (at[k] == at[(k + 1) % 4]) throw core::TopologyError("split: the disk between the two tori has fewer than four distinct corners; refine the mesh");
+    // Consecutive diagonal corners share a sign of u or of v: arcs 0, 2 keep u if corners 0, 1 do.
+    const bool u02 = std::abs(du[at[0]] - du[at[1]]) / su < std::abs(dv[at[0]] - dv[at[1]]) / sv;
+    auto mismatch = [&](const std::array<int, 4>& c) {
+      double e = 0;
+      for (int k = 0; k < 4; ++k) {
+        const bool keeps_u = (k % 2 == 0) == u02;
+        e += keeps_u ? std::pow((du[c[k]] - du[c[(k + 1) % 4]]) / su, 2) : std::pow((dv[c[k]] - dv[c[(k + 1) % 4]]) / sv, 2);
+      }
+      return e;
+    };
+    for (bool moved = true; moved;) {
+      moved = false;
+      for (int k = 0; k < 4; ++k)
+        for (int step : {-1, 1}) {
+          std::array<int, 4> c = at;
+          c[k] = (c[k] + step + nr) % nr;
+          if (c[k] == at[(k + 1) % 4] || c[k] == at[(k + 3) % 4] || mismatch(c) >= mismatch(at) - 1e-15) continue;
+          at = c, moved = true;
+        }
+    }
+    for (int k = 0; k < 4; ++k) disk.corners[k] = R[at[k]];
+  } else {
+    for (int k = 0; k < 4; ++k) {
+      const auto it = std::find(R.begin(), R.end(), disk.corners[k]);
+      if (it == R.end()) throw std::logic_error("split: a disk corner is not on its rim");
+      at[k] = static_cast<int>(it - R.begin());
+    }
+  }
+  // Rotate so that the corners run forward along the rim from at[0].
+  for (int r = 0; r < 4 && !(((at[1] - at[0] + nr) % nr) < ((at[2] - at[0] + nr) % nr) && ((at[2] - at[0] + nr) % nr) < ((at[3] - at[0] + nr) % nr)); ++r)
+    std::rotate(at.begin(), at.begin() + 1, at.end());
+  std::array<std::vector<int>, 4> arc;
+  for (int k = 0; k < 4; ++k)
+    for (int i = at[k];; i = (i + 1) % nr) {
+      arc[k].push_back(R[i]);
+      if (i == at[(k + 1) % 4]) break;
+    }
+  // Arcs p and p + 2 close cross sections (u changes less along them), p + 1 and p + 3 longitudes.
+  auto rel = [&](int k, const std::vector<double>& f, double scale) { return std::abs(change_along(arc[k], f)) / scale; };
+  const int p = rel(0, u0, su) + rel(2, u0, su) - rel(0, v0, sv) - rel(2, v0, sv) <= rel(1, u0, su) + rel(3, u0, su) - rel(1, v0, sv) - rel(3, v0, sv) ? 0 : 1;
+  DiskCuts out;
+  // Field f closes its level sets by arcs c and c + 2. Its values on the whole rim are the natural
+  // field's, lifted along the rim, made equal at the two ends of each of those arcs (a correction
+  // linear in arc length along every arc), then stretched about the first level so that the disk
+  // spans at least `min_span` of a turn: the disk's cube then gets its share of the ring (the
+  // natural span is the angle the disk subtends from the hole, a tenth of a turn on an eight),
+  // and the level sets leave the corners across the rim, as the natural ones do.
+  auto fill = [&](int c, const std::vector<double>& f0, double min_span, std::vector<Constraint>& cons, std::array<double, 2>& level,
+                  std::array<std::array<int, 2>, 2>& ends, std::array<std::vector<int>, 2>& arcs) {
+    std::vector<double> F(nr);  // lifted along the rim from at[0]
+    F[at[0]] = f0[R[at[0]]];
+    for (int s = 1; s < nr; ++s) {
+      const int i = (at[0] + s) % nr, j = (i + nr - 1) % nr;
+      F[i] = F[j] + circle_difference(f0[R[j]], f0[R[i]], 1.0);
+    }
+    const auto& A = arc[c];
+    const auto& B = arc[(c + 2) % 4];
+    const double a = 0.5 * (F[at[c]] + F[at[(c + 1) % 4]]), b = 0.5 * (F[at[(c + 2) % 4]] + F[at[(c + 3) % 4]]);
+    std::array<double, 4> target{};  // per corner
+    target[static_cast<std::size_t>(c)] = target[static_cast<std::size_t>((c + 1) % 4)] = a;
+    target[static_cast<std::size_t>((c + 2) % 4)] = target[static_cast<std::size_t>((c + 3) % 4)] = b;
+    const double stretch = std::abs(b - a) < min_span ? min_span / std::abs(b - a) : 1.0;
+    for (int k = 0; k < 4; ++k) {
+      const auto& X = arc[k];
+      std::vector<double> len(X.size(), 0.0);
+      for (std::size_t i = 1; i < X.size(); ++i) len[i] = len[i - 1] + (pt(m, X[i]) - pt(m, X[i - 1])).norm();
+      const int i0 = at[k], i1 = at[(k + 1) % 4];
+      const double d0 = target[static_cast<std::size_t>(k)] - F[i0], d1 = target[static_cast<std::size_t>((k + 1) % 4)] - F[i1];
+      for (std::size_t i = 0; i + 1 < X.size(); ++i) {  // each arc's last vertex is the next arc's first
+        const double t = len[i] / len.back();
+        const double x = i == 0 ? target[static_cast<std::size_t>(k)] : F[(i0 + static_cast<int>(i)) % nr] + (1 - t) * d0 + t * d1;  // corners exactly
+        cons.push_back({X[i], a + stretch * (x - a)});
+      }
+    }
+    const double b_lifted = a + stretch * (b - a);
+    const double sa = a - std::floor(a), sb = b_lifted - std::floor(b_lifted);  // as stored by periodic_harmonic_field
+    // The level set closed by arc A runs from A.back() around to A.front(); the rim arc A closes it.
+    if (b_lifted > a) level = {sa, sb}, ends = {{{A.front(), A.back()}, {B.front(), B.back()}}}, arcs = {A, B};
+    else level = {sb, sa}, ends = {{{B.front(), B.back()}, {A.front(), A.back()}}}, arcs = {B, A};
+  };
+  fill(p, u0, min_span[0], out.u, out.u_level, out.u_ends, out.u_arc);
+  fill(p + 1, v0, min_span[1], out.v, out.v_level, out.v_ends, out.v_arc);
+  return out;
+}
+
 }  // namespace
 
 std::vector<double> height_field(const Mesh& mesh, const Params& prm, CriticalPoints* cp) {
@@ -249,13 +392,15 @@ bool loop_separates(const Mesh& m, const std::vector<int>& loop) { return separa
 
 double level_between_vertices(double c, const std::vector<double>& f) { return between_vertices(c, f, 0.0); }
 
-Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, const Params& prm, const std::vector<int>& protect,
-                          const std::vector<int>& first_cross_section) {
+Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, const Params& prm, const std::vector<int>& protect_in,
+                          const std::vector<int>& first_cross_section, DiskPatch* disk) {
   if (prm.torus_cubes < 4 || prm.torus_cubes > 16) throw core::ConfigError("split.torus_cubes must be in [4, 16]");
   Mesh mesh = input;
   std::set<Edge> sharp = sharp_in;
   Decomposition d;
   d.genus = 1;
+  if (disk && !sharp.empty()) throw core::TopologyError("split: sharp curves on a torus that meets another on a disk are not supported yet");
+  const std::vector<int> protect = disk ? std::vector<int>{} : protect_in;
 
   // Steps 1–3: the first cross section A.
   std::vector<double> f;
@@ -316,8 +461,46 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
   if (!sharp.empty())
     for (const auto& loop : chain_loops(sharp))
       if (Lr.empty() && std::abs(loop_period(loop, u)) == 1) Lr = loop;
-  if (Lr.empty()) Lr = shortest_ring_loop(mesh, A);
+  std::vector<int> disk_vertices;
+  if (disk) {
+    disk_vertices = disk->rim;
+    disk_vertices.insert(disk_vertices.end(), disk->inside.begin(), disk->inside.end());
+  }
+  if (Lr.empty()) Lr = shortest_ring_loop(mesh, A, disk_vertices);
   std::vector<double> v = periodic_harmonic_field(mesh, Lr);
+  // A disk made one patch: u and v again, with its rim's arcs as level sets.
+  std::optional<DiskCuts> dc;
+  std::vector<char> off_disk;  // face mask: the faces not in the disk (the disk's level sets are inserted outside it)
+  if (disk) {
+    for (int x : A)
+      if (std::find(disk_vertices.begin(), disk_vertices.end(), x) != disk_vertices.end())
+        throw core::TopologyError("split: the first cross section of a torus runs through the disk where it meets the other torus");
+    // The disk's sector spans at least one cube of the ring (narrower, its T-mesh folded: session
+    // 13), its tube span at least a quarter turn.
+    dc = disk_cuts(mesh, *disk, u, v, {1.0 / prm.torus_cubes, 0.25});
+    u = periodic_harmonic_field(mesh, A, dc->u);
+    v = periodic_harmonic_field(mesh, Lr, dc->v);
+    std::vector<char> in_disk(mesh.number_of_vertices(), 0);
+    for (int x : disk_vertices) in_disk[x] = 1;
+    off_disk.assign(mesh.number_of_faces(), 0);
+    for (auto fc : mesh.faces())
+      for (auto x : CGAL::vertices_around_face(mesh.halfedge(fc), mesh))
+        if (!in_disk[x]) off_disk[fc] = 1;
+  }
+  // Level k of count - 1 more levels after a disk's two (level[0], level[1], lifted: level[0] +
+  // span), spread evenly over the rest of the turn but kept off the disk (whose range of the field
+  // is wider than [level 0, level 1] where its rim bulges between corners).
+  auto spread_level = [&](const std::vector<double>& f, const std::array<double, 2>& level, int k, int count) {
+    const double span = level[1] - level[0] + (level[1] < level[0] ? 1.0 : 0.0);
+    const auto [lo, hi] = disk_range(*disk, f, level[0]);
+    const double margin = 0.02;
+    if (1.0 - (hi - lo) < 2 * margin * count)
+      throw core::TopologyError("split: the disk where the two tori meet covers " + std::to_string(static_cast<int>(100 * (hi - lo))) +
+                                "% of a torus's turn; set split.extreme_points");
+    double at = level[0] + span + k * (1.0 - span) / count;
+    at = std::clamp(at, hi + margin * k, lo + 1.0 - margin * (count - k));
+    return between_vertices(at - std::floor(at), f, 1.0);
+  };
 
   // Closed sharp curves must run around the ring: they become longitudinal lines.
   std::vector<Line> lines;
@@ -352,6 +535,11 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
     for (const auto& l : lines) far &= !(l.corner && circ_dist(l.v, lines[i].v) < 0.125);
     if (far) lines[i].corner = true, ++corners;
   }
+  if (dc) {  // two lines closed by the disk's rim, two spread over the rest of the tube
+    for (int i = 0; i < 2; ++i) lines.push_back({false, -1, dc->v_level[i], 0, 0, 0, true, i});
+    for (int k = 1; k <= 2; ++k) lines.push_back({false, -1, spread_level(v, dc->v_level, k, 3), 0, 0, 0, true});
+    corners = 4;
+  }
   while (corners < 4) {
     if (lines.empty()) {
       for (int k = 0; k < 4; ++k) lines.push_back({false, -1, level_avoiding(protect, v, k, 4, 0.125), 0, 0, 0, true});
@@ -375,7 +563,7 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
   const int n = prm.torus_cubes;
   double first_level = 0.5 / n;
   if (!prm.cross_section_point.empty()) {
-    if (!protect.empty()) throw core::ConfigError("split.cross_section_point is not supported for surfaces of genus 2 yet");
+    if (!protect_in.empty() || disk) throw core::ConfigError("split.cross_section_point is not supported for surfaces of genus 2 yet");
     first_level = u[nearest_vertex(mesh, prm.cross_section_point[0])];
   }
   LabelledEdges cuts;
@@ -394,21 +582,44 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
     if (keep.empty()) throw core::TopologyError("split: the " + what + " does not run around the torus");
     return keep;
   };
+  // Level of cross section k: with a disk, the first two along its rim, the others spread over the
+  // rest of the ring.
+  auto cross_section_level = [&](int k) {
+    if (!dc) return between_vertices(level_avoiding(protect, u, k, n, first_level), u, 1.0);
+    if (k < 2) return dc->u_level[static_cast<std::size_t>(k)];
+    return spread_level(u, dc->u_level, k - 1, n - 1);
+  };
+  if (dc) ou.face_mask = ov.face_mask = &off_disk;
+  // A level set through two corners of the disk: its chain outside the disk, closed by the rim arc.
+  auto close_by_arc = [&](std::vector<std::vector<int>> chains, const std::vector<int>& arc, const std::string& what) {
+    if (chains.size() != 1 || !((chains[0].front() == arc.front() && chains[0].back() == arc.back()) ||
+                                (chains[0].front() == arc.back() && chains[0].back() == arc.front())))
+      throw core::TopologyError("split: the " + what + " through the corners of the disk where the tori meet is not one curve from corner to corner (" +
+                                std::to_string(chains.size()) + " pieces); set split.extreme_points or refine the mesh");
+    std::vector<int> loop = std::move(chains[0]);
+    if (loop.front() == arc.front()) std::reverse(loop.begin(), loop.end());
+    loop.insert(loop.end(), arc.begin() + 1, arc.end() - 1);
+    return loop;
+  };
   for (int k = 0; k < n; ++k) {
     splits.clear();
-    auto loops = insert_isoline(mesh, u, between_vertices(level_avoiding(protect, u, k, n, first_level), u, 1.0), ou);
+    auto loops = insert_isoline(mesh, u, cross_section_level(k), ou);
     apply_splits(sharp, splits);
     apply_splits(cuts, splits);
-    const auto loop = take(std::move(loops), v, "cross section " + std::to_string(k));
+    const std::string what = "cross section " + std::to_string(k);
+    const auto loop = take(dc && k < 2 ? std::vector<std::vector<int>>{close_by_arc(std::move(loops), dc->u_arc[static_cast<std::size_t>(k)], what)} : std::move(loops), v, what);
     add_loop(cuts, loop, k);
   }
   for (std::size_t j = 0; j < lines.size(); ++j) {
     if (lines[j].sharp) continue;
     splits.clear();
-    auto loops = insert_isoline(mesh, v, between_vertices(lines[j].v, v, 1.0), ov);
+    const int dl = lines[j].disk_level;
+    auto loops = insert_isoline(mesh, v, dl >= 0 ? lines[j].v : between_vertices(lines[j].v, v, 1.0), ov);
     apply_splits(sharp, splits);
     apply_splits(cuts, splits);
-    add_loop(cuts, take(std::move(loops), u, "longitudinal line " + std::to_string(j)), kLongitudeLabel + static_cast<int>(j));
+    const std::string what = "longitudinal line " + std::to_string(j);
+    if (dl >= 0) loops = {close_by_arc(std::move(loops), dc->v_arc[static_cast<std::size_t>(dl)], what)};
+    add_loop(cuts, take(std::move(loops), u, what), kLongitudeLabel + static_cast<int>(j));
   }
   if (!sharp.empty())
     for (const auto& loop : chain_loops(sharp))

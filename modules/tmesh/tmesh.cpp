@@ -221,9 +221,10 @@ TMesh from_json(const core::Json& j, const std::string& file) {
     if (j.contains("component")) t.component = j["component"].get<int>();
     if (j.contains("function_ids")) t.function_ids = j["function_ids"].get<std::vector<int>>();
     if (j.contains("corners")) t.corners = j["corners"].get<std::array<Vec3, 8>>();
+    // A pillowed complex of cubes (complex.h) reaches into neighbouring cubes by less than half a cube.
     for (const auto& c : t.corners)
       for (const double x : c)
-        if (!(x >= 0 && x <= 1)) throw core::InvalidInputError(file + ": tmesh block corner outside its cube's parameters [0,1]^3");
+        if (!(x >= -0.5 && x <= 1.5)) throw core::InvalidInputError(file + ": tmesh block corner outside [-0.5, 1.5]^3, its cube's parameters and the pillow's reach");
     if (j.contains("kind")) t.kind = j["kind"].get<std::string>();
     if (t.kind != "cube" && t.kind != "core" && t.kind != "pillow")
       throw core::InvalidInputError(file + ": unknown tmesh block kind '" + t.kind + "'");

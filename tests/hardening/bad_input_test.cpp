@@ -300,8 +300,8 @@ std::vector<BadInput> catalogue() {
                  "tmesh function_ids has"),
       stage_json("TmeshUnknownBlockKind", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["kind"] = "wedge"; },
                  "unknown tmesh block kind 'wedge'"),
-      stage_json("TmeshBlockCornerOutsideCube", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][1]["corners"][7][0] = 1.5; },
-                 "tmesh block corner outside its cube's parameters"),
+      stage_json("TmeshBlockCornerOutsideCube", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][1]["corners"][7][0] = 1.6; },
+                 "tmesh block corner outside [-0.5, 1.5]^3"),
       stage_json("TmeshHugeLevel", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["level"] = 40; },
                  "tmesh level 40 or degree 1 out of range"),
       // A difference polycube (the fuzz seed: 8 columns around a square hole) whose hole pokes out of the cube.

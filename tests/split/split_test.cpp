@@ -320,6 +320,40 @@ TEST(Split, EightIsTwoToriOfFourCubesMeetingOnAFilledDisk) {
   EXPECT_EQ(meets, 1);
 }
 
+TEST(Split, EightWithAConnectorIsTwoToriAndANeckCubeOnTheirDisks) {
+  // split.genus2: connector (Liu et al. §6): the neck between two cut levels is one cube whose
+  // ends are the tori's disks, each a whole patch of its torus.
+  split::Params p;
+  p.genus2 = "connector";
+  const auto d = run_split(shared("cfwen_eight.off"), p);
+  check_decomposition(d);
+  ASSERT_EQ(d.tori.size(), 2u);
+  ASSERT_EQ(d.components.size(), 9u);
+  int cubes = 0, neck = -1;
+  for (std::size_t c = 0; c < d.components.size(); ++c)
+    if (d.components[c].type == split::ComponentType::cube) ++cubes, neck = static_cast<int>(c);
+  EXPECT_EQ(cubes, 1);
+  // Two contacts through filled patches, each between the neck and a different torus; each such
+  // patch of a torus holds fill triangles only (the disk is a whole patch).
+  std::set<int> tori;
+  for (const auto& c : d.contacts) {
+    if (c.via != "filled_patch") continue;
+    ASSERT_TRUE(c.a == neck || c.b == neck);
+    tori.insert(d.components[c.a == neck ? c.b : c.a].torus);
+  }
+  EXPECT_EQ(tori, (std::set<int>{0, 1}));
+  for (const auto& comp : d.components) {
+    if (comp.torus < 0) continue;
+    for (int q : comp.patches) {
+      const auto& tris = d.layout.patches[static_cast<std::size_t>(q)].triangles;
+      const auto fills = std::count_if(tris.begin(), tris.end(), [&](int t) { return d.layout.filled[static_cast<std::size_t>(t)] != 0; });
+      EXPECT_TRUE(fills == 0 || fills == static_cast<long>(tris.size())) << "patch " << q << " mixes disk and surface";
+    }
+  }
+  p.connector_cut = 0.01;
+  EXPECT_THROW(run_split(shared("cfwen_eight.off"), p), core::ConfigError);
+}
+
 TEST(Split, RodIsTwoToriWithDefaults) {
   // A CAD part of genus 2 (an eye and a small hole). Its sharp curves are not followed by the
   // genus-2 cuts yet (docs/status.md); the decomposition itself must hold.

@@ -1,0 +1,182 @@
+#include "tmesh/complex.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/errors.h"
+
+namespace volts::tmesh {
+
+Vec3 AxisMap::linear(const Vec3& x) const {
+  Vec3 y{0, 0, 0};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) y[i] += P[i][j] * x[j];
+  return y;
+}
+
+Vec3 AxisMap::operator()(const Vec3& x) const {
+  Vec3 y = linear(x);
+  for (int i = 0; i < 3; ++i) y[i] += t[i];
+  return y;
+}
+
+AxisMap AxisMap::inverse() const {
+  AxisMap m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m.P[i][j] = P[j][i];
+  const Vec3 u = m.linear(t);
+  m.t = {-u[0], -u[1], -u[2]};
+  return m;
+}
+
+namespace {
+
+std::string where(int cube, int face) { return "cube " + std::to_string(cube) + " face " + std::to_string(face); }
+
+Vec3 outward(int face) {
+  Vec3 n{0, 0, 0};
+  n[face / 2] = face % 2 ? 1 : -1;
+  return n;
+}
+
+}  // namespace
+
+void glue_faces(CubeComplex& k, int a, int fa, int b, int fb, const AxisMap& a_to_b) {
+  const int n = static_cast<int>(k.glue.size());
+  if (a < 0 || a >= n || b < 0 || b >= n || fa < 0 || fa > 5 || fb < 0 || fb > 5)
+    throw core::TopologyError("tmesh: gluing " + where(a, fa) + " to " + where(b, fb) + ": no such cube face");
+  if (k.glue[a][fa] || k.glue[b][fb]) throw core::TopologyError("tmesh: " + where(a, fa) + " or " + where(b, fb) + " is glued twice");
+  // The face's centre goes to the other face's centre, the outward normal to the other's inward one.
+  Vec3 centre{0.5, 0.5, 0.5};
+  centre[fa / 2] = fa % 2;
+  const Vec3 y = a_to_b(centre), na = a_to_b.linear(outward(fa)), nb = outward(fb);
+  Vec3 want{0.5, 0.5, 0.5};
+  want[fb / 2] = fb % 2;
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(y[i] - want[i]) > 1e-12 || na[i] != -nb[i])
+      throw core::TopologyError("tmesh: the map gluing " + where(a, fa) + " to " + where(b, fb) + " does not take one face onto the other");
+  k.glue[a][fa] = CubeComplex::Glue{b, fb, a_to_b};
+  k.glue[b][fb] = CubeComplex::Glue{a, fa, a_to_b.inverse()};
+}
+
+namespace {
+
+// The direction s (entries -1, 0, 1, cube c's parameters) from corner v of cube c to its inner
+// copy: per axis, toward the solid across the surface plane through v perpendicular to it.
+// Occupancy of the eight octants around v: walked from c across glued faces (octant bit d = 1:
+// on c's side of v along axis d).
+std::array<int, 3> inner_direction(const CubeComplex& k, int c, const std::array<int, 3>& v) {
+  struct State {
+    bool occupied = false;
+    int cube = -1;
+    AxisMap map;  // c's parameters -> the occupying cube's
+  };
+  std::array<State, 8> oct;
+  oct[7] = {true, c, AxisMap{}};
+  std::array<int, 8> queue{7};
+  int head = 0, tail = 1;
+  std::array<bool, 8> seen{};
+  seen[7] = true;
+  std::array<int, 3> c_side{};
+  for (int d = 0; d < 3; ++d) c_side[d] = v[d] == 0 ? 1 : -1;
+  while (head < tail) {
+    const int o = queue[head++];
+    for (int d = 0; d < 3; ++d) {
+      const int o2 = o ^ (1 << d);
+      if (seen[o2]) continue;
+      Vec3 step{0, 0, 0};
+      step[d] = ((o >> d) & 1) ? -c_side[d] : c_side[d];
+      const Vec3 w = oct[o].map.linear(step);
+      int axis = 0;
+      while (w[axis] == 0) ++axis;
+      const int face = 2 * axis + (w[axis] > 0 ? 1 : 0);
+      const auto& g = k.glue[oct[o].cube][face];
+      if (!g) continue;  // a surface face: not reached from here (perhaps from another octant)
+      AxisMap m;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          m.P[i][j] = 0;
+          for (int l = 0; l < 3; ++l) m.P[i][j] += g->map.P[i][l] * oct[o].map.P[l][j];
+        }
+      const Vec3 t = g->map(oct[o].map.t);
+      m.t = t;
+      oct[o2] = {true, g->cube, m};
+      seen[o2] = true;
+      queue[tail++] = o2;
+    }
+  }
+  std::array<int, 3> s{0, 0, 0};
+  for (int d = 0; d < 3; ++d)
+    for (int o = 0; o < 8; ++o) {
+      if (!((o >> d) & 1)) continue;
+      const bool in = oct[o].occupied, out = oct[o ^ (1 << d)].occupied;
+      if (in == out) continue;
+      const int dir = in ? c_side[d] : -c_side[d];
+      if (s[d] != 0 && s[d] != dir)
+        throw core::TopologyError("tmesh: the polycube is not a manifold at corner (" + std::to_string(v[0]) + "," + std::to_string(v[1]) + "," +
+                                  std::to_string(v[2]) + ") of cube " + std::to_string(c) + ": surface planes on both sides along axis " +
+                                  std::to_string(d));
+      s[d] = dir;
+    }
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, int elements, int layers) {
+  if (elements < 1 || layers < 1)
+    throw core::ConfigError("tmesh: a pillowed cube complex needs elements >= 1 and layers >= 1, got " + std::to_string(elements) + " and " +
+                            std::to_string(layers));
+  const double p = static_cast<double>(layers) / (elements + 2 * layers);
+  std::vector<std::vector<Block>> out(k.glue.size());
+  for (std::size_t c = 0; c < k.glue.size(); ++c) {
+    std::array<Vec3, 8> corner, inner;
+    for (int i = 0; i < 8; ++i) {
+      const std::array<int, 3> v{i & 1, (i >> 1) & 1, (i >> 2) & 1};
+      const std::array<int, 3> s = inner_direction(k, static_cast<int>(c), v);
+      for (int d = 0; d < 3; ++d) corner[i][d] = v[d], inner[i][d] = v[d] + p * s[d];
+    }
+    Block core;
+    core.corners = inner;
+    core.elements = {elements, elements, elements};
+    out[c].push_back(core);
+    for (int f = 0; f < 6; ++f) {
+      if (k.glue[c][static_cast<std::size_t>(f)]) continue;
+      const int d = f / 2, side = f % 2;
+      Block b;
+      b.pillow = true;
+      b.boundary[static_cast<std::size_t>(f)] = 1;
+      b.elements = {elements, elements, elements};
+      b.elements[d] = layers;
+      for (int i = 0; i < 8; ++i) {
+        // Block corner i: the cube corner with bit d = side, outer or inner by i's bit d.
+        const int j = (i & ~(1 << d)) | (side << d);
+        const bool outer = ((i >> d) & 1) == side;
+        b.corners[i] = outer ? corner[j] : inner[j];
+      }
+      out[c].push_back(b);
+    }
+  }
+  return out;
+}
+
+std::optional<std::pair<int, Vec3>> locate(const CubeComplex& k, int c, Vec3 x, double tol) {
+  for (int step = 0; step < 8; ++step) {
+    int face = -1;
+    for (int d = 0; d < 3 && face < 0; ++d) {
+      if (x[d] < -tol) face = 2 * d;
+      else if (x[d] > 1 + tol) face = 2 * d + 1;
+    }
+    if (face < 0) {
+      for (double& v : x) v = std::min(1.0, std::max(0.0, v));
+      return std::make_pair(c, x);
+    }
+    const auto& g = k.glue[static_cast<std::size_t>(c)][static_cast<std::size_t>(face)];
+    if (!g) return std::nullopt;
+    x = g->map(x);
+    c = g->cube;
+  }
+  return std::nullopt;
+}
+
+}  // namespace volts::tmesh

@@ -1,0 +1,155 @@
+// The connector cube of two tori (polycube/connector.h; split.genus2: connector): on the eight,
+// each torus is closed by its own disk and the neck is one cube whose ends are those disks; it
+// maps onto the unit cube with its surface on the cube's boundary, its ends at a = 0 (ring 0's
+// disk) and a = 1, no flipped triangle, the same parameterization of each end as the ring's patch
+// map of that disk (up to a symmetry of the square), and a volume map without flipped tets.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "classify/classify.h"
+#include "polycube/connector.h"
+#include "polycube/patch_map.h"
+#include "polycube/rings.h"
+#include "split/split.h"
+#include "surface/surface.h"
+#include "volmap/volmap.h"
+
+using namespace volts;
+
+namespace {
+
+struct Eight {
+  split::Decomposition d;
+  std::vector<polycube::Ring> rings;
+  polycube::Ring neck;
+  polycube::ConnectorMap map;
+};
+
+const Eight& eight() {
+  static const Eight e = [] {
+    Eight x;
+    const auto mesh = surface::read_surface(std::string(VOLTS_SHARED_MODELS) + "/cfwen_eight.off");
+    split::Params sp;
+    sp.genus2 = "connector";
+    x.d = split::split(mesh, classify::classify(mesh, {}), sp);
+    x.rings = polycube::rings(x.d);
+    x.neck = polycube::connector(x.d).value();
+    x.map = polycube::map_connector(x.neck, x.rings[0], {});
+    return x;
+  }();
+  return e;
+}
+
+// The layout patch of `piece` whose triangles are fills (its disk), as the piece's patch index.
+int disk_patch(const polycube::Ring& piece, const std::set<int>& fills) {
+  const auto& L = piece.decomposition.layout;
+  for (std::size_t p = 0; p < L.patches.size(); ++p) {
+    const int t = L.patches[p].triangles.at(0);
+    if (L.filled[static_cast<std::size_t>(t)] && fills.count(piece.layout_triangle[static_cast<std::size_t>(t)])) return static_cast<int>(p);
+  }
+  return -1;
+}
+
+}  // namespace
+
+TEST(Connector, EightSplitsIntoTwoClosedToriAndANeckCube) {
+  const Eight& e = eight();
+  ASSERT_EQ(e.rings.size(), 2u);
+  EXPECT_EQ(e.neck.decomposition.components.size(), 1u);
+  EXPECT_EQ(e.neck.decomposition.layout.patches.size(), 6u);
+  // Every fill triangle closes exactly one torus and is an end of the neck.
+  const std::set<int> neck(e.neck.layout_triangle.begin(), e.neck.layout_triangle.end());
+  int fills = 0;
+  for (std::size_t t = 0; t < e.d.layout.triangles.size(); ++t) {
+    if (!e.d.layout.filled[t]) continue;
+    ++fills;
+    int in = 0;
+    for (const auto& r : e.rings) in += std::count(r.layout_triangle.begin(), r.layout_triangle.end(), static_cast<int>(t));
+    EXPECT_EQ(in, 1) << "fill triangle " << t;
+    EXPECT_TRUE(neck.count(static_cast<int>(t))) << "fill triangle " << t;
+  }
+  EXPECT_GT(fills, 0);
+}
+
+TEST(Connector, NeckMapsOntoTheUnitCubeWithItsEndsOnTheRingsDisks) {
+  const Eight& e = eight();
+  const polycube::ConnectorMap& m = e.map;
+  EXPECT_EQ(std::set<int>(m.corner_vertex.begin(), m.corner_vertex.end()).size(), 8u);
+  EXPECT_EQ(m.flipped_surface_triangles, 0);
+  EXPECT_LT(m.max_mismatch, 1e-9);
+  for (const auto& p : m.points) {
+    int on = 0;
+    for (const double x : p) {
+      EXPECT_GE(x, -1e-12);
+      EXPECT_LE(x, 1 + 1e-12);
+      on += std::abs(x) < 1e-12 || std::abs(x - 1) < 1e-12;
+    }
+    EXPECT_GE(on, 1) << "a surface point inside the cube";
+  }
+  // Ring r's disk lies on the face a = r.
+  const auto& L = e.neck.decomposition.layout;
+  for (int r = 0; r < 2; ++r) {
+    const std::set<int> ring(e.rings[r].layout_triangle.begin(), e.rings[r].layout_triangle.end());
+    const int p = disk_patch(e.neck, ring);
+    ASSERT_GE(p, 0);
+    for (int t : L.patches[static_cast<std::size_t>(p)].triangles)
+      for (int v : L.triangles[static_cast<std::size_t>(t)]) EXPECT_NEAR(m.points[static_cast<std::size_t>(v)][0], r, 1e-12);
+  }
+}
+
+TEST(Connector, EachEndIsParameterizedAsItsRingParameterizesTheDisk) {
+  const Eight& e = eight();
+  const auto neck_maps = polycube::map_patches(e.neck.decomposition, {});
+  for (int r = 0; r < 2; ++r) {
+    const polycube::Ring& ring = e.rings[static_cast<std::size_t>(r)];
+    const std::set<int> fills(ring.layout_triangle.begin(), ring.layout_triangle.end());
+    const int pn = disk_patch(e.neck, fills), pr = disk_patch(ring, fills);
+    ASSERT_GE(pn, 0);
+    ASSERT_GE(pr, 0);
+    const auto ring_maps = polycube::map_patches(ring.decomposition, {});
+    // Both maps by layout vertex.
+    std::map<int, std::array<double, 2>> a, b;
+    for (std::size_t i = 0; i < neck_maps[static_cast<std::size_t>(pn)].vertices.size(); ++i)
+      a[e.neck.layout_vertex[static_cast<std::size_t>(neck_maps[static_cast<std::size_t>(pn)].vertices[i])]] = neck_maps[static_cast<std::size_t>(pn)].st[i];
+    for (std::size_t i = 0; i < ring_maps[static_cast<std::size_t>(pr)].vertices.size(); ++i)
+      b[ring.layout_vertex[static_cast<std::size_t>(ring_maps[static_cast<std::size_t>(pr)].vertices[i])]] = ring_maps[static_cast<std::size_t>(pr)].st[i];
+    ASSERT_EQ(a.size(), b.size());
+    double best = 1e300;
+    for (int sym = 0; sym < 8; ++sym) {
+      double worst = 0;
+      for (const auto& [v, st] : a) {
+        std::array<double, 2> x = st;
+        if (sym & 1) x[0] = 1 - x[0];
+        if (sym & 2) x[1] = 1 - x[1];
+        if (sym & 4) std::swap(x[0], x[1]);
+        const auto it = b.find(v);
+        if (it == b.end()) {
+          worst = 1e300;
+          break;
+        }
+        worst = std::max(worst, std::hypot(x[0] - it->second[0], x[1] - it->second[1]));
+      }
+      best = std::min(best, worst);
+    }
+    EXPECT_LT(best, 1e-8) << "ring " << r;
+  }
+}
+
+TEST(Connector, NeckVolumeMapHasNoFlippedTets) {
+  const Eight& e = eight();
+  const volmap::VolumeMap vm = polycube::connector_volume_map(e.neck, e.map, {});
+  EXPECT_EQ(vm.flipped_tets, 0);
+  EXPECT_GT(vm.min_volume_ratio, 0);
+  EXPECT_EQ(vm.surface_vertices, static_cast<int>(e.neck.layout_vertex.size()));
+  double volume = 0;
+  for (const auto& t : vm.tets) {
+    const auto& p = vm.parameter;
+    volume += (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).dot(p[t[3]] - p[t[0]]) / 6;
+  }
+  EXPECT_NEAR(volume, 1.0, 1e-9);  // the tets fill the unit cube
+}

@@ -1,0 +1,256 @@
+// Pillowing of a glued cube complex (tmesh/complex.h): on a lone cube and a ring it is the per-cube
+// pillow of cube_blocks; on a cube standing on the middle of a row of three (a connector on a
+// ring sector: concave edges that end on convex ones) the blocks tile the solid, conform face to
+// face with equal element counts, have positive Jacobians, leave no element with two surface
+// faces, and the corners of the shared face get the five-block pillow edge of a valence-5 surface
+// vertex. Frames of the glued cubes may be rotated: the blocks are the same in space.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "core/errors.h"
+#include "tmesh/complex.h"
+#include "tmesh/pillow.h"
+
+using namespace volts;
+using tmesh::AxisMap;
+using tmesh::Block;
+using tmesh::Vec3;
+
+namespace {
+
+AxisMap shift(double a, double b, double c) {
+  AxisMap m;
+  m.t = {a, b, c};
+  return m;
+}
+
+// A cube's blocks placed in space (corners through `to_space`).
+struct Placed {
+  std::array<Vec3, 8> x;
+  Block b;
+};
+
+double det3(const Vec3& u, const Vec3& v, const Vec3& w) {
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+// Volume and the smallest Jacobian determinant of a trilinear hex (3^3 Gauss points and corners).
+double volume(const std::array<Vec3, 8>& c, double* min_det) {
+  const double g[3] = {0.5 - std::sqrt(0.15), 0.5, 0.5 + std::sqrt(0.15)}, w[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};
+  auto jac = [&](const Vec3& u) {
+    std::array<Vec3, 3> d{};
+    for (int i = 0; i < 8; ++i) {
+      const double f[3] = {i & 1 ? u[0] : 1 - u[0], (i >> 1) & 1 ? u[1] : 1 - u[1], (i >> 2) & 1 ? u[2] : 1 - u[2]};
+      const double s[3] = {i & 1 ? 1.0 : -1.0, (i >> 1) & 1 ? 1.0 : -1.0, (i >> 2) & 1 ? 1.0 : -1.0};
+      for (int a = 0; a < 3; ++a) {
+        double coef = s[a];
+        for (int b = 0; b < 3; ++b)
+          if (b != a) coef *= f[b];
+        for (int k = 0; k < 3; ++k) d[a][k] += coef * c[i][k];
+      }
+    }
+    return det3(d[0], d[1], d[2]);
+  };
+  double v = 0;
+  *min_det = 1e300;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) {
+        const double dt = jac({g[i], g[j], g[k]});
+        v += w[i] * w[j] * w[k] * dt;
+        *min_det = std::min(*min_det, dt);
+      }
+  for (int i = 0; i < 8; ++i) *min_det = std::min(*min_det, jac({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)}));
+  return v;
+}
+
+using FaceKey = std::array<std::array<long long, 3>, 4>;
+FaceKey face_key(const std::array<Vec3, 8>& x, int f) {
+  const int d = f / 2, side = f % 2;
+  FaceKey k{};
+  int n = 0;
+  for (int i = 0; i < 8; ++i)
+    if (((i >> d) & 1) == side)
+      for (int a = 0; a < 3; ++a) k[n][a] = std::llround(x[i][a] * 1e9), n += a == 2;
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+// The blocks of the complex placed in space; checks the properties in the header comment and
+// returns the placed blocks.
+std::vector<Placed> check_complex(const tmesh::CubeComplex& k, const std::vector<AxisMap>& to_space, double want_volume,
+                                  double want_surface, int elements, int layers) {
+  const auto blocks = tmesh::complex_blocks(k, elements, layers);
+  EXPECT_EQ(blocks.size(), k.glue.size());
+  std::vector<Placed> all;
+  double total = 0, surface = 0;
+  std::map<FaceKey, std::vector<std::array<int, 2>>> faces;  // -> (placed block, face)
+  for (std::size_t c = 0; c < blocks.size(); ++c)
+    for (const Block& b : blocks[c]) {
+      Placed p{{}, b};
+      for (int i = 0; i < 8; ++i) p.x[i] = to_space[c](b.corners[i]);
+      double min_det = 0;
+      total += volume(p.x, &min_det);
+      EXPECT_GT(min_det, 1e-6) << "cube " << c;
+      int on = 0;
+      for (int f = 0; f < 6; ++f) {
+        on += b.boundary[f];
+        faces[face_key(p.x, f)].push_back({static_cast<int>(all.size()), f});
+      }
+      EXPECT_EQ(on, b.pillow ? 1 : 0);
+      all.push_back(p);
+    }
+  EXPECT_NEAR(total, want_volume, 1e-9);
+  for (const auto& [key, list] : faces) {
+    const Placed& p = all[static_cast<std::size_t>(list[0][0])];
+    const int f = list[0][1];
+    if (p.b.boundary[f]) {
+      EXPECT_EQ(list.size(), 1u);
+      // Surface area of the (planar, in these tests) outer face.
+      const int d = f / 2, side = f % 2;
+      std::vector<Vec3> q;
+      for (int i = 0; i < 8; ++i)
+        if (((i >> d) & 1) == side) q.push_back(p.x[i]);
+      Vec3 e1, e2, e3;
+      for (int a = 0; a < 3; ++a) e1[a] = q[1][a] - q[0][a], e2[a] = q[2][a] - q[0][a], e3[a] = q[3][a] - q[0][a];
+      auto cross_norm = [](const Vec3& u, const Vec3& v) {
+        const Vec3 c{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        return std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+      };
+      surface += 0.5 * cross_norm(e1, e3) + 0.5 * cross_norm(Vec3{e3[0] - e2[0], e3[1] - e2[1], e3[2] - e2[2]},
+                                                              Vec3{e1[0] - e2[0], e1[1] - e2[1], e1[2] - e2[2]});
+      continue;
+    }
+    EXPECT_EQ(list.size(), 2u) << "an inner block face not shared by exactly two blocks";
+    if (list.size() != 2) continue;
+    const Placed& o = all[static_cast<std::size_t>(list[1][0])];
+    EXPECT_EQ(o.b.boundary[list[1][1]], 0);
+    std::array<int, 2> n1{p.b.elements[(f / 2 + 1) % 3], p.b.elements[(f / 2 + 2) % 3]};
+    std::array<int, 2> n2{o.b.elements[(list[1][1] / 2 + 1) % 3], o.b.elements[(list[1][1] / 2 + 2) % 3]};
+    std::sort(n1.begin(), n1.end()), std::sort(n2.begin(), n2.end());
+    EXPECT_EQ(n1, n2);
+  }
+  EXPECT_NEAR(surface, want_surface, 1e-9);
+  return all;
+}
+
+std::vector<std::array<Vec3, 8>> sorted_corners(const std::vector<Block>& blocks) {
+  std::vector<std::array<Vec3, 8>> v;
+  for (const Block& b : blocks) v.push_back(b.corners);
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+void expect_same_blocks(const std::vector<Block>& a, const std::vector<Block>& b) {
+  const auto x = sorted_corners(a), y = sorted_corners(b);
+  ASSERT_EQ(x.size(), y.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int d = 0; d < 3; ++d) EXPECT_NEAR(x[i][j][d], y[i][j][d], 1e-12);
+}
+
+}  // namespace
+
+TEST(CubeComplex, LoneCubeIsThePerCubePillow) {
+  tmesh::CubeComplex k;
+  k.glue.resize(1);
+  const auto blocks = tmesh::complex_blocks(k, 8, 1);
+  expect_same_blocks(blocks[0], tmesh::cube_blocks({1, 1, 1, 1, 1, 1}, {8, 8, 8}, 1));
+  check_complex(k, {AxisMap{}}, 1, 6, 8, 1);
+}
+
+TEST(CubeComplex, RingCubesAreThePerCubePillow) {
+  // Four cubes in a row along a, the last glued to the first (a ring: no surface across a).
+  tmesh::CubeComplex k;
+  k.glue.resize(4);
+  for (int c = 0; c < 4; ++c) tmesh::glue_faces(k, c, 1, (c + 1) % 4, 0, shift(-1, 0, 0));
+  const auto blocks = tmesh::complex_blocks(k, 8, 2);
+  for (const auto& b : blocks) expect_same_blocks(b, tmesh::cube_blocks({0, 0, 1, 1, 1, 1}, {8, 8, 8}, 2));
+}
+
+namespace {
+
+// A row of three cubes along a (cubes 0, 1, 2 at a = -1, 0, 1) and cube 3 standing on the middle
+// one (c from 1 to 2), glued with `frame`: cube 1's parameters -> cube 3's.
+tmesh::CubeComplex t_junction(const AxisMap& frame, std::vector<AxisMap>& to_space) {
+  tmesh::CubeComplex k;
+  k.glue.resize(4);
+  tmesh::glue_faces(k, 0, 1, 1, 0, shift(-1, 0, 0));
+  tmesh::glue_faces(k, 1, 1, 2, 0, shift(-1, 0, 0));
+  const Vec3 top = frame.linear({0, 0, 1});
+  int face = 0;
+  while (top[face / 2] == 0) face += 2;
+  face += top[face / 2] > 0 ? 0 : 1;  // cube 3's face across cube 1's top: its inward normal is +c of cube 1
+  tmesh::glue_faces(k, 1, 5, 3, face, frame);
+  to_space = {shift(-1, 0, 0), AxisMap{}, shift(1, 0, 0), frame.inverse()};
+  return k;
+}
+
+}  // namespace
+
+TEST(CubeComplex, CubeOnARowTilesConformsAndHasFivePillowsAtTheSharedFacesCorners) {
+  for (int rotated = 0; rotated < 2; ++rotated) {
+    SCOPED_TRACE(rotated ? "cube 3 in a rotated frame" : "cube 3 in cube 1's frame");
+    AxisMap frame = shift(0, 0, -1);
+    if (rotated) {
+      // Cube 3's (a, b, c) = (c - 1, a, b) of cube 1: a cyclic permutation, right-handed.
+      frame.P = {{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}};
+      frame.t = {-1, 0, 0};
+    }
+    std::vector<AxisMap> to_space;
+    const tmesh::CubeComplex k = t_junction(frame, to_space);
+    // Three cubes in a row (area 14) less the shared face, plus the standing cube's five faces.
+    const auto all = check_complex(k, to_space, 4, 14 - 1 + 5, 8, 1);
+    // The shared face's corner (0, 0, 1), where five surface faces meet (the row's front and top,
+    // the standing cube's front and side, the middle cube's front): its inner copy (p, p, 1 - p)
+    // is a corner of the five pillows on those faces and of no core.
+    const double p = 1.0 / 10;
+    auto has = [](const Placed& q, const Vec3& x) {
+      for (const auto& y : q.x)
+        if (std::abs(y[0] - x[0]) < 1e-12 && std::abs(y[1] - x[1]) < 1e-12 && std::abs(y[2] - x[2]) < 1e-12) return true;
+      return false;
+    };
+    int pillows = 0, cores = 0;
+    for (const Placed& q : all)
+      if (has(q, {0, 0, 1}) && has(q, {p, p, 1 - p})) (q.b.pillow ? pillows : cores) += 1;
+    EXPECT_EQ(pillows, 5);
+    EXPECT_EQ(cores, 0);
+  }
+}
+
+TEST(CubeComplex, LocateCarriesPointsAcrossGluedFacesOnly) {
+  std::vector<AxisMap> to_space;
+  AxisMap frame;
+  frame.P = {{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}};
+  frame.t = {-1, 0, 0};
+  const tmesh::CubeComplex k = t_junction(frame, to_space);
+  // From cube 0 past its a = 1 face into cube 1.
+  auto r = tmesh::locate(k, 0, {1.1, 0.5, 0.9});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->first, 1);
+  EXPECT_NEAR(r->second[0], 0.1, 1e-12);
+  // From cube 3 below its bottom (a < 0 in its frame) into cube 1: (a, b, c) = (b3, c3, 1 + a3).
+  r = tmesh::locate(k, 3, {-0.1, 0.2, 0.3});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->first, 1);
+  EXPECT_NEAR(r->second[0], 0.2, 1e-12);
+  EXPECT_NEAR(r->second[1], 0.3, 1e-12);
+  EXPECT_NEAR(r->second[2], 0.9, 1e-12);
+  // Out through a surface face.
+  EXPECT_FALSE(tmesh::locate(k, 0, {-0.1, 0.5, 0.5}));
+  EXPECT_FALSE(tmesh::locate(k, 1, {0.5, -0.2, 0.5}));
+}
+
+TEST(CubeComplex, BadInputIsRejected) {
+  tmesh::CubeComplex k;
+  k.glue.resize(2);
+  EXPECT_THROW(tmesh::complex_blocks(k, 8, 0), core::ConfigError);
+  // A map that does not take face 1 of cube 0 onto face 0 of cube 1.
+  EXPECT_THROW(tmesh::glue_faces(k, 0, 1, 1, 0, shift(0, 0, 0)), core::TopologyError);
+  tmesh::glue_faces(k, 0, 1, 1, 0, shift(-1, 0, 0));
+  EXPECT_THROW(tmesh::glue_faces(k, 0, 1, 1, 0, shift(-1, 0, 0)), core::TopologyError);
+}
