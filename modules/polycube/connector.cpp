@@ -86,16 +86,8 @@ ConnectorMap map_connector(const Ring& piece, const Ring& ring0, const PatchMapP
     }
     return pts;
   };
-  auto signed_volume = [&](const std::vector<Vec3>& p) {
-    double vol = 0;
-    for (const auto& t : L.triangles) {
-      const Vec3 &a = p[static_cast<std::size_t>(t[0])], &b = p[static_cast<std::size_t>(t[1])], &c = p[static_cast<std::size_t>(t[2])];
-      vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
-    }
-    return vol;
-  };
   m.points = place(false);
-  if (signed_volume(m.points) < 0) {
+  if (layout_volume(L, m.points, Fills::include) < 0) {
     m.mirrored = true;
     m.points = place(true);
     std::array<int, 8> swapped{};

@@ -277,13 +277,7 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
     if (std::isnan(pts[v][0])) throw core::TopologyError("polycube: vertex " + std::to_string(v) + " of the solid lies on no patch of the difference");
 
   // Mirror (swap the two axes across the hole) if the frame came out left-handed.
-  double volume = 0;
-  for (std::size_t t = 0; t < L.triangles.size(); ++t) {
-    if (L.filled[t]) continue;
-    const Vec3 &a = pts[L.triangles[t][0]], &b = pts[L.triangles[t][1]], &c = pts[L.triangles[t][2]];
-    volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
-  }
-  if (volume < 0) {
+  if (layout_volume(L, pts, Fills::skip) < 0) {
     m.mirrored = true;
     for (auto& p : pts) std::swap(p[a1], p[a2]);
     std::swap(m.hole_lo[a1], m.hole_lo[a2]);

@@ -45,16 +45,8 @@ void place_patches(Embedding& e, const split::Layout& L, const std::vector<Place
     return pts;
   };
   // Mirror if the embedded surface has the other orientation than the physical one.
-  auto signed_volume = [&](const std::vector<Vec3>& p) {
-    double v = 0;
-    for (const auto& t : L.triangles) {
-      const Vec3 &a = p[static_cast<std::size_t>(t[0])], &b = p[static_cast<std::size_t>(t[1])], &c = p[static_cast<std::size_t>(t[2])];
-      v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
-    }
-    return v;
-  };
   e.points = place();
-  if (signed_volume(e.points) < 0) {
+  if (layout_volume(L, e.points, Fills::include) < 0) {
     e.mirrored = true;
     e.points = place();
   }

@@ -156,6 +156,17 @@ MapQuality map_quality(const split::Layout& L, const std::vector<int>& triangles
   return q;
 }
 
+double layout_volume(const split::Layout& layout, const std::vector<std::array<double, 3>>& at, Fills fills) {
+  double v = 0;
+  for (std::size_t t = 0; t < layout.triangles.size(); ++t) {
+    if (fills == Fills::skip && layout.filled[t]) continue;
+    const auto &a = at[static_cast<std::size_t>(layout.triangles[t][0])], &b = at[static_cast<std::size_t>(layout.triangles[t][1])],
+               &c = at[static_cast<std::size_t>(layout.triangles[t][2])];
+    v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+  }
+  return v;
+}
+
 std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapParams& params) {
   const split::Layout& L = d.layout;
   static const std::array<std::array<double, 2>, 4> corner{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}};

@@ -61,6 +61,13 @@ std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapP
 /// orientation). Fill triangles are stored once but bound two solids, the other way round in one.
 std::vector<char> consistent_orientation(const split::Layout& layout, const std::vector<int>& triangles);
 
+/// Which layout triangles layout_volume() counts.
+enum class Fills { include, skip };
+
+/// Volume enclosed by the layout's triangles (fill triangles too, or not) with vertex v at at[v]:
+/// negative if they turn inward there (a map that mirrors the surface).
+double layout_volume(const split::Layout& layout, const std::vector<std::array<double, 3>>& at, Fills fills);
+
 /// Arc-length fraction of each vertex along a vertex chain (0 at the first, 1 at the last).
 std::vector<double> arc_length_fractions(const split::Layout& layout, const std::vector<int>& chain);
 

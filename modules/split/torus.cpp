@@ -223,10 +223,9 @@ double change_along(const std::vector<int>& chain, const std::vector<double>& f)
 // The disk made one patch: its rim is cut at four corner vertices into two arcs that close
 // cross sections and two that close longitudinal lines. The cross sections through the disk are
 // the level sets of u through its corners outside the disk, closed by the rim arcs; u (and v) are
-// the periodic fields with their corner values as the only constraints (the mean of the natural
-// fields' values at the two corners of an arc, so the fields change little). The rim is smooth
-// where the tori meet (an eight's waist), so a rim with arcs of constant u would make the level
-// sets leave the corners tangentially; point constraints let them cross the rim there.
+// the periodic fields with values on the whole rim (disk_cuts: the natural ones, corrected so the
+// two ends of each closing arc agree). Constant values on whole arcs were tried: the kink in the
+// boundary data makes the level sets leave the corners tangentially (docs/status.md, session 13).
 struct DiskCuts {
   std::vector<Constraint> u, v;
   std::array<double, 2> u_level{}, v_level{};  // per field: the two levels (as stored), lower first going up over the disk

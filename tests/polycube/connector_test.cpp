@@ -10,8 +10,10 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <string>
 
 #include "classify/classify.h"
+#include "core/errors.h"
 #include "polycube/connector.h"
 #include "polycube/patch_map.h"
 #include "polycube/rings.h"
@@ -152,4 +154,35 @@ TEST(Connector, NeckVolumeMapHasNoFlippedTets) {
     volume += (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).dot(p[t[3]] - p[t[0]]) / 6;
   }
   EXPECT_NEAR(volume, 1.0, 1e-9);  // the tets fill the unit cube
+}
+
+TEST(Connector, StageFileCornersAreCheckedAndNameTheFile) {
+  const Eight& e = eight();
+  const volmap::VolumeMap vm = polycube::connector_volume_map(e.neck, e.map, {});
+  const core::Json good = polycube::to_json(e.neck, e.map, vm);
+  const std::array<int, 8> corners = polycube::connector_corners(good, "p.json");
+  for (int i = 0; i < 8; ++i)
+    EXPECT_EQ(corners[static_cast<std::size_t>(i)], e.neck.layout_vertex[static_cast<std::size_t>(e.map.corner_vertex[static_cast<std::size_t>(i)])]);
+  auto refused = [](core::Json j, const std::string& part) {
+    try {
+      polycube::connector_corners(j, "p.json");
+      ADD_FAILURE() << "no error for " << part;
+    } catch (const core::InvalidInputError& x) {
+      const std::string what = x.what();
+      EXPECT_NE(what.find("p.json"), std::string::npos) << what;
+      EXPECT_NE(what.find(part), std::string::npos) << what;
+    }
+  };
+  core::Json j = good;
+  j.erase("corner_vertex");
+  refused(j, "corner_vertex");
+  j = good;
+  j["corner_vertex"][3] = 1 << 30;
+  refused(j, "out of range");
+  j = good;
+  j["corner_vertex"][3] = j["corner_vertex"][4];
+  refused(j, "repeats");
+  j = good;
+  j["corner_vertex"] = "eight";
+  refused(j, "malformed");
 }

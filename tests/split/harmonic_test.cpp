@@ -2,11 +2,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
+#include <vector>
 
+#include "classify/classify.h"
 #include "core/errors.h"
 #include "models/models.h"
 #include "split/harmonic.h"
+#include "split/isoline.h"
+#include "split/split.h"
 
 using namespace volts;
 
@@ -87,4 +92,29 @@ TEST(Harmonic, BadConstraintsAreErrors) {
   EXPECT_THROW(split::harmonic_field(mesh, {{0, 0.0}, {0, 1.0}}), core::InvalidInputError);
   EXPECT_THROW(split::harmonic_field(mesh, {{-1, 0.0}}), core::InvalidInputError);
   EXPECT_THROW(split::harmonic_field(mesh, {{static_cast<int>(mesh.number_of_vertices()), 0.0}}), core::InvalidInputError);
+}
+
+TEST(Harmonic, PeriodicFieldWithItsOwnValuesAsConstraintsIsUnchanged) {
+  // A cross section of a split torus as the cut; the unconstrained field's values, lifted on the
+  // surface cut open along it, as Dirichlet values at a third of the vertices: the field is
+  // harmonic at the others, so the constrained solve must give the same field.
+  const surface::Mesh torus = model("torus", 16);
+  const split::Decomposition d = split::split(torus, classify::classify(torus, {}), {});
+  const surface::Mesh m = split::layout_mesh(d.layout, false);
+  const std::vector<int> cut = d.layout.internal_faces.at(0).loop;
+  const std::vector<double> u0 = split::periodic_harmonic_field(m, cut);
+  std::vector<char> on_cut(m.number_of_vertices(), 0);
+  for (int v : cut) on_cut[static_cast<std::size_t>(v)] = 1;
+  const double c = u0[static_cast<std::size_t>(cut[0])];
+  std::vector<split::Constraint> cons;
+  for (int v = 0; v < static_cast<int>(m.number_of_vertices()); v += 3)
+    if (!on_cut[static_cast<std::size_t>(v)]) cons.push_back({v, c + std::fmod(u0[static_cast<std::size_t>(v)] - c + 1.0, 1.0)});
+  ASSERT_GT(cons.size(), 10u);
+  const std::vector<double> u1 = split::periodic_harmonic_field(m, cut, cons);
+  double worst = 0;
+  for (std::size_t v = 0; v < u0.size(); ++v) worst = std::max(worst, std::abs(split::circle_difference(u0[v], u1[v], 1.0)));
+  EXPECT_LT(worst, 1e-9);
+  // A constraint on the cut, or the same vertex twice, is refused.
+  EXPECT_THROW(split::periodic_harmonic_field(m, cut, {{cut[1], 0.5}}), core::InvalidInputError);
+  EXPECT_THROW(split::periodic_harmonic_field(m, cut, {cons[0], cons[0]}), core::InvalidInputError);
 }
