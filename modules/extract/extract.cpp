@@ -80,7 +80,7 @@ double point_tolerance(const Eigen::AlignedBox3d& box, double rel) {
   return rel * box.diagonal().norm() + 64 * std::numeric_limits<double>::epsilon() * magnitude;
 }
 
-GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<bezier::BezierHex>& hexes) {
+GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<bezier::BezierHex>& hexes, bool keep_operators) {
   const std::vector<std::vector<int>> ids = function_ids(ts);
   GlobalBasis g;
   int count = 0;
@@ -138,7 +138,7 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
   if (e != hexes.size()) throw core::NumericalError("extract: fewer elements in the blocks than Bézier hexes");
   // Every element's operator and checks in parallel; the first failing element (in element
   // order) is reported, as a serial loop would.
-  std::vector<ExtractionElement> elements(hexes.size());
+  std::vector<ExtractionElement> elements(keep_operators ? hexes.size() : 0);
   std::vector<double> pous(hexes.size(), 0.0);
   std::vector<std::string> errors(hexes.size());
   core::parallel_for(hexes.size(), [&](std::size_t e) {
@@ -164,13 +164,11 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
     el.functions = local;
     std::sort(el.functions.begin(), el.functions.end());
     el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
-    std::vector<Eigen::Triplet<double>> triplets;
     const Eigen::MatrixXd& Cu = ops[0][ea];
     const Eigen::MatrixXd& Cv = ops[1][eb];
     const Eigen::MatrixXd& Cw = ops[2][ec];
     // Columns of the nonzero entries of every 1-D operator row: a product with a zero factor is
-    // zero, so the loop below visits the same nonzero products in the same order as over all
-    // (p+1)^3 columns, a tenth of them.
+    // zero, so only these products are formed (a tenth of all (p+1)^3 columns).
     std::array<std::vector<std::vector<int>>, 3> nonzero;
     for (int d = 0; d < 3; ++d) {
       const Eigen::MatrixXd& C = d == 0 ? Cu : d == 1 ? Cv : Cw;
@@ -179,18 +177,47 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
         for (int col = 0; col < q; ++col)
           if (C(r, col) != 0.0) nonzero[d][static_cast<std::size_t>(r)].push_back(col);
     }
-    for (int l = 0; l < q * q * q; ++l) {
-      const int row = static_cast<int>(std::lower_bound(el.functions.begin(), el.functions.end(), local[l]) - el.functions.begin());
-      const int a = l % q, bb = (l / q) % q, c = l / (q * q);
-      for (const int cw : nonzero[2][static_cast<std::size_t>(c)])
-        for (const int cv : nonzero[1][static_cast<std::size_t>(bb)])
-          for (const int cu : nonzero[0][static_cast<std::size_t>(a)]) {
-            const double v = Cu(a, cu) * Cv(bb, cv) * Cw(c, cw);
-            if (v != 0.0) triplets.emplace_back(row, cu + q * (cv + q * cw), v);
-          }
+    // The operator filled row by row, columns ascending, straight into its row-major storage.
+    // Entry (row, column) sums the products of the row's local functions in local order, as
+    // setFromTriplets summed triplets listed in local order: the same values bit for bit,
+    // without the triplets (up to (p+1)^6 per element) and setFromTriplets' transposed copy,
+    // most of extract's allocations.
+    const std::size_t nb = static_cast<std::size_t>(q * q * q);
+    std::vector<int> row_of(nb), by_row(nb);
+    std::size_t products = 0;
+    for (std::size_t l = 0; l < nb; ++l) {
+      row_of[l] = static_cast<int>(std::lower_bound(el.functions.begin(), el.functions.end(), local[l]) - el.functions.begin());
+      by_row[l] = static_cast<int>(l);
+      const std::size_t uq = static_cast<std::size_t>(q);
+      products += nonzero[0][l % uq].size() * nonzero[1][(l / uq) % uq].size() * nonzero[2][l / (uq * uq)].size();
     }
-    el.op.resize(static_cast<int>(el.functions.size()), q * q * q);
-    el.op.setFromTriplets(triplets.begin(), triplets.end());  // sums a function repeated in the element
+    std::stable_sort(by_row.begin(), by_row.end(), [&](int x, int y) { return row_of[static_cast<std::size_t>(x)] < row_of[static_cast<std::size_t>(y)]; });
+    std::vector<double> sum(nb, 0.0);
+    std::vector<char> used(nb, 0);
+    el.op.resize(static_cast<int>(el.functions.size()), static_cast<int>(nb));
+    el.op.reserve(static_cast<Eigen::Index>(products));
+    for (std::size_t at = 0; at < nb;) {
+      const int row = row_of[static_cast<std::size_t>(by_row[at])];
+      el.op.startVec(row);
+      for (; at < nb && row_of[static_cast<std::size_t>(by_row[at])] == row; ++at) {
+        const int l = by_row[at];
+        const int a = l % q, bb = (l / q) % q, c = l / (q * q);
+        for (const int cw : nonzero[2][static_cast<std::size_t>(c)])
+          for (const int cv : nonzero[1][static_cast<std::size_t>(bb)])
+            for (const int cu : nonzero[0][static_cast<std::size_t>(a)]) {
+              const double v = Cu(a, cu) * Cv(bb, cv) * Cw(c, cw);
+              if (v == 0.0) continue;
+              const std::size_t col = static_cast<std::size_t>(cu + q * (cv + q * cw));
+              sum[col] += v, used[col] = 1;  // 0 + v is v: the first term is copied exactly
+            }
+      }
+      for (std::size_t col = 0; col < nb; ++col)
+        if (used[col]) {
+          el.op.insertBack(row, static_cast<int>(col)) = sum[col];  // kept if it cancels, as setFromTriplets did
+          sum[col] = 0.0, used[col] = 0;
+        }
+    }
+    el.op.finalize();
     // Partition of unity and reproduction of the extracted hex.
     const bezier::BezierHex& h = hexes[e];
     if (h.num_points() != q * q * q) {
@@ -220,7 +247,7 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
       errors[e] = name() + ": Cᵀ·P misses its Bézier control points" + msg;
       return;
     }
-    elements[e] = std::move(el);
+    if (keep_operators) elements[e] = std::move(el);
   });
   for (std::size_t e = 0; e < hexes.size(); ++e) {
     if (!errors[e].empty()) throw core::NumericalError(errors[e]);
@@ -266,7 +293,9 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
   }
   {
     core::LogSection s("global basis and extraction operators");
-    r.basis = global_basis(ts, r.hexes);
+    const auto& x = params.exports;
+    const bool operators = std::find(x.begin(), x.end(), "bext") != x.end() || std::find(x.begin(), x.end(), "json") != x.end();
+    r.basis = global_basis(ts, r.hexes, operators);
     char pou[32];
     std::snprintf(pou, sizeof pou, "%.1e", r.basis.partition_of_unity_error);
     core::log(std::to_string(r.basis.points.size()) + " global functions, partition of unity within " + pou);

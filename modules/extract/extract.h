@@ -50,7 +50,7 @@ struct ExtractionElement {
 struct GlobalBasis {
   std::vector<Eigen::Vector3d> points;      ///< control point of each global function
   std::vector<double> weights;              ///< weight of each global function (1 today: rational with unit weights)
-  std::vector<ExtractionElement> elements;  ///< same order as the Bézier hexes
+  std::vector<ExtractionElement> elements;  ///< same order as the Bézier hexes; empty unless kept (global_basis)
   double partition_of_unity_error = 0;      ///< max over columns of C of |column sum - 1|
 };
 
@@ -86,11 +86,14 @@ double point_tolerance(const Eigen::AlignedBox3d& box, double rel);
 /// within 1e-12, and Cᵀ·P equals the hex's Bézier points within point_tolerance(bbox, 1e-12).
 /// Throws core::InvalidInputError for ids that do not match the control points (wrong count, an
 /// unused id, one id with two different points), core::NumericalError naming the element if a
-/// check fails.
-GlobalBasis global_basis(const std::vector<tmesh::TMesh>& t, const std::vector<bezier::BezierHex>& hexes);
+/// check fails. With keep_operators false every element is still built and checked, but
+/// `elements` is left empty: the operators (~12 KB per cubic element, 37 MB on the torus) are only
+/// read by the bext and json exports, and allocating them was a third of extract's time.
+GlobalBasis global_basis(const std::vector<tmesh::TMesh>& t, const std::vector<bezier::BezierHex>& hexes, bool keep_operators = true);
 
 /// Extracts the Bézier elements of the splines of the cubes `t` (all of one degree) and measures them
 /// against the input `surface`; boundary deviation is sampled on the cube faces marked boundary.
+/// The extraction operators are kept (Result::basis.elements) only if params.exports has bext or json.
 Result extract(const std::vector<tmesh::TMesh>& t, const surface::Mesh& surface, const Params& params);
 
 /// Report keys: bezier_elements, degree, min_scaled_jacobian, max_scaled_jacobian, hausdorff_rel,

@@ -113,6 +113,24 @@ TEST(GlobalBasis, HexThatDoesNotReproduceIsANumericalErrorNamingTheElement) {
   EXPECT_NE(m.find("element 5 "), std::string::npos) << m;
 }
 
+// Without the operators kept (exports without bext and json), every element is still checked.
+TEST(GlobalBasis, WithoutOperatorsKeptEveryElementIsStillChecked) {
+  const auto ts = test::two_blocks();
+  auto hexes = test::hexes_of(ts);
+  const extract::GlobalBasis all = extract::global_basis(ts, hexes);
+  const extract::GlobalBasis g = extract::global_basis(ts, hexes, false);
+  EXPECT_TRUE(g.elements.empty());
+  EXPECT_EQ(g.points, all.points);
+  EXPECT_EQ(g.partition_of_unity_error, all.partition_of_unity_error);
+  hexes[5].points[21] += Eigen::Vector3d(0, 0, 1e-6);
+  try {
+    extract::global_basis(ts, hexes, false);
+    ADD_FAILURE() << "a hex that does not reproduce passed";
+  } catch (const core::NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("element 5 "), std::string::npos) << e.what();
+  }
+}
+
 // CAD parts sit far from the origin: the checks must not flag rounding at the size of the coordinates.
 TEST(GlobalBasis, FarFromTheOriginStillPassesItsChecks) {
   auto ts = test::two_blocks();
