@@ -624,18 +624,24 @@ void write_bezier_vtu(const std::string& path, const std::vector<BezierHex>& hex
   degrees->SetNumberOfTuples(static_cast<vtkIdType>(hexes.size()));
   vtkNew<vtkUnstructuredGrid> grid;
   grid->Allocate(static_cast<vtkIdType>(hexes.size()));
+  // Sized once: growing the arrays point by point reallocated and copied them (a tenth of extract).
+  vtkIdType total = 0;
+  for (const BezierHex& hex : hexes) total += hex.num_points();
+  points->SetNumberOfPoints(total);
+  weights->SetNumberOfValues(total);
   std::vector<vtkIdType> ids;
+  vtkIdType base = 0;
   for (std::size_t h = 0; h < hexes.size(); ++h) {
     const BezierHex& hex = hexes[h];
-    const vtkIdType base = points->GetNumberOfPoints();
     ids.assign(hex.num_points(), 0);
     for (int n = 0; n < hex.num_points(); ++n) {
-      points->InsertNextPoint(hex.points[n].data());
-      weights->InsertNextValue(hex.weight(n));
+      points->SetPoint(base + n, hex.points[n].data());
+      weights->SetValue(base + n, hex.weight(n));
       const auto [i, j, k] = hex.ijk(n);
       ids[vtk_hex_point_index(i, j, k, hex.degree)] = base + n;
     }
     grid->InsertNextCell(VTK_BEZIER_HEXAHEDRON, static_cast<vtkIdType>(ids.size()), ids.data());
+    base += hex.num_points();
     degrees->SetTuple3(static_cast<vtkIdType>(h), hex.degree[0], hex.degree[1], hex.degree[2]);
   }
   grid->SetPoints(points);
