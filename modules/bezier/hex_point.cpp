@@ -66,6 +66,15 @@ HexPoints::HexPoints(const std::array<int, 3>& degree, const std::vector<Eigen::
       for (int d = 0; d < 3; ++d) db_[static_cast<std::size_t>(d)][idx * n + pt] = one.db_[idx][d];
     }
   }
+  // W and dW of a polynomial hex (every weight 1) do not depend on its points: summed here once,
+  // term by term in index order as evaluate() sums them.
+  w_.assign(n, 0.0);
+  for (auto& d : dw_) d.assign(n, 0.0);
+  for (std::size_t idx = 0; idx < terms; ++idx)
+    for (std::size_t pt = 0; pt < n; ++pt) {
+      w_[pt] += b_[idx * n + pt];
+      for (std::size_t d = 0; d < 3; ++d) dw_[d][pt] += db_[d][idx * n + pt];
+    }
 }
 
 void HexPoints::evaluate(const BezierHex& hex, std::vector<Eigen::Vector3d>* x, std::vector<Eigen::Matrix3d>* jacobians) const {
@@ -84,29 +93,24 @@ void HexPoints::evaluate(const BezierHex& hex, std::vector<Eigen::Vector3d>* x, 
     }
     return;
   }
-  // HexPoint::evaluate's sums, one array per sum: A (3), W, and with the Jacobian dA (row r,
-  // column c at 4 + 3r + c) and dW (13 + c). Per point the terms are added in index order.
+  // HexPoint::evaluate's sums, one array per sum: A (3) and with the Jacobian dA (row r, column
+  // c at 3 + 3r + c); W and dW are the constructor's. Per point the terms are added in index order.
   const bool with_j = jacobians != nullptr;
   thread_local std::vector<double> acc;
-  acc.assign((with_j ? 16 : 4) * n, 0.0);
+  acc.assign((with_j ? 12 : 3) * n, 0.0);
   double* A0 = acc.data();
-  double *A1 = A0 + n, *A2 = A1 + n, *W = A2 + n;
+  double *A1 = A0 + n, *A2 = A1 + n;
   const std::size_t terms = hex.points.size();
   for (std::size_t idx = 0; idx < terms; ++idx) {
     const double P0 = hex.points[idx][0], P1 = hex.points[idx][1], P2 = hex.points[idx][2];
     const double* __restrict b = &b_[idx * n];
-    for (std::size_t pt = 0; pt < n; ++pt) {
-      A0[pt] += b[pt] * P0, A1[pt] += b[pt] * P1, A2[pt] += b[pt] * P2;
-      W[pt] += b[pt];
-    }
+    for (std::size_t pt = 0; pt < n; ++pt) A0[pt] += b[pt] * P0, A1[pt] += b[pt] * P1, A2[pt] += b[pt] * P2;
     if (!with_j) continue;
     const double P[3] = {P0, P1, P2};
     for (int c = 0; c < 3; ++c) {
       const double* __restrict db = &db_[static_cast<std::size_t>(c)][idx * n];
-      double* __restrict dW = acc.data() + (13 + c) * n;
-      for (std::size_t pt = 0; pt < n; ++pt) dW[pt] += db[pt];
       for (int r = 0; r < 3; ++r) {
-        double* __restrict dA = acc.data() + (4 + 3 * r + c) * n;
+        double* __restrict dA = acc.data() + (3 + 3 * r + c) * n;
         const double Pr = P[r];
         for (std::size_t pt = 0; pt < n; ++pt) dA[pt] += Pr * db[pt];
       }
@@ -114,15 +118,14 @@ void HexPoints::evaluate(const BezierHex& hex, std::vector<Eigen::Vector3d>* x, 
   }
   for (std::size_t pt = 0; pt < n; ++pt) {
     const Eigen::Vector3d A(A0[pt], A1[pt], A2[pt]);
-    const Eigen::Vector3d y = A / W[pt];
+    const Eigen::Vector3d y = A / w_[pt];
     if (x) (*x)[pt] = y;
     if (!with_j) continue;
     Eigen::Matrix3d dA;
-    Eigen::RowVector3d dW;
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) dA(r, c) = acc[(4 + 3 * r + c) * n + pt];
-    for (int c = 0; c < 3; ++c) dW[c] = acc[(13 + c) * n + pt];
-    (*jacobians)[pt] = (dA - y * dW) / W[pt];  // quotient rule
+      for (int c = 0; c < 3; ++c) dA(r, c) = acc[(3 + 3 * r + c) * n + pt];
+    const Eigen::RowVector3d dW(dw_[0][pt], dw_[1][pt], dw_[2][pt]);
+    (*jacobians)[pt] = (dA - y * dW) / w_[pt];  // quotient rule
   }
 }
 

@@ -54,6 +54,8 @@ class HexPoints {
   std::vector<Eigen::Vector3d> uvw_;
   std::vector<double> b_;                 // b_[idx * size() + point]: HexPoint's products
   std::array<std::vector<double>, 3> db_;  // their derivatives, same layout
+  std::vector<double> w_;                  // W = sum of b_ per point (a polynomial hex's)
+  std::array<std::vector<double>, 3> dw_;  // dW per point
 };
 
 }  // namespace volts::bezier
