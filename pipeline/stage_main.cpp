@@ -15,10 +15,6 @@ namespace fs = std::filesystem;
 
 namespace volts::pipeline {
 
-std::string stage_file(const std::string& workdir, const std::string& stage) {
-  return (fs::path(workdir) / (stage + ".stage.json")).string();
-}
-
 std::string StageContext::path(const std::string& name) const { return (fs::path(workdir) / name).string(); }
 std::string StageContext::input_file(const std::string& previous) const {
   return input.empty() ? stage_file(workdir, previous) : input;
