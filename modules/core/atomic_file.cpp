@@ -54,7 +54,15 @@ std::string read_text_file(const std::string& path) {
   if (!ec && size > physical_memory_bytes() / 2)
     throw InvalidInputError(path + ": is " + std::to_string(size) + " bytes, more than this machine can hold (limit " +
                             std::to_string(physical_memory_bytes() / 2) + ")");
-  std::ostringstream s;
+  if (!ec) {
+    // One read into a string of the file's size (a stringstream copy touched every page twice).
+    std::string text(static_cast<std::size_t>(size), '\0');
+    in.read(text.data(), static_cast<std::streamsize>(size));
+    if (static_cast<std::uintmax_t>(in.gcount()) == size && in.peek() == std::char_traits<char>::eof()) return text;
+    in.clear();
+    in.seekg(0);
+  }
+  std::ostringstream s;  // size unknown, or the file changed while read
   s << in.rdbuf();
   return s.str();
 }
