@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "bezier/quadrature.h"
 #include "core/errors.h"
 
 using namespace volts;
@@ -203,4 +204,30 @@ TEST(BezierHex, MalformedHexesThrow) {
   EXPECT_THROW(check(h), core::InvalidInputError);
   h.degree = {2, 2, 2};
   EXPECT_THROW(elevate_degree(h, {1, 2, 2}), core::InvalidInputError);
+}
+
+// jacobian_samples forms the Gauss grid's partial sums once per shared point: its matrices must be
+// those of evaluate() at the corners and at the Gauss points (u fastest), for unequal degrees too.
+TEST(BezierHex, JacobianSamplesAreTheJacobiansAtCornersAndGaussPoints) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.1, 0.1);
+  for (const std::array<int, 3> degree : {std::array<int, 3>{3, 3, 3}, std::array<int, 3>{2, 3, 1}}) {
+    BezierHex h = hex_from_multilinear(degree, [](const Vector3d& u) { return Vector3d(u[0] + 0.2 * u[1] * u[2], u[1], u[2] + 0.1 * u[0]); });
+    for (auto& p : h.points) p += Vector3d(jitter(rng), jitter(rng), jitter(rng));
+    for (const int n : {1, 3, 4}) {
+      const std::vector<Matrix3d> js = jacobian_samples(h, n);
+      std::vector<Vector3d> at;
+      for (int c = 0; c < 8; ++c) at.emplace_back(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+      const std::vector<double> g = gauss_legendre_points(n);
+      for (const double w : g)
+        for (const double v : g)
+          for (const double u : g) at.emplace_back(u, v, w);
+      ASSERT_EQ(js.size(), at.size());
+      for (std::size_t s = 0; s < at.size(); ++s) {
+        Matrix3d J;
+        evaluate(h, at[s], &J);
+        EXPECT_LT((js[s] - J).norm(), 1e-13 * J.norm()) << "degree " << degree[0] << degree[1] << degree[2] << ", n " << n << ", sample " << s;
+      }
+    }
+  }
 }
