@@ -14,6 +14,7 @@
 #include "bezier/bezier_hex.h"
 #include "bezier/bspline.h"
 #include "bezier/certify.h"
+#include "bezier/jacobian_grid.h"
 #include "core/errors.h"
 #include "core/log.h"
 #include "core/parallel.h"
@@ -198,47 +199,33 @@ class Spline {
 };
 
 // Row x (dx/du, dx/dv, dx/dw) of bezier::jacobian_samples of a polynomial hex of degree p in each
-// direction from its points' x coordinates: same samples, order and arithmetic (its
-// polynomial_jacobian on one coordinate), so the rows are bit-identical at a third of the cost.
+// direction from its points' x coordinates: the same sums (bezier::grid_derivatives on one
+// coordinate), so the rows are bit-identical at a third of the cost.
 class XRowSamples {
  public:
-  XRowSamples(int degree, int gauss_points) : n_(degree + 1) {
+  XRowSamples(int degree, int gauss_points) : degree_{degree, degree, degree} {
     std::vector<double> t = bezier::gauss_legendre_points(gauss_points);
     t.insert(t.begin(), {0.0, 1.0});
-    for (const double x : t) {
-      Eigen::VectorXd db;
-      B_.push_back(bezier::bernstein_basis(degree, x, &db));
-      dB_.push_back(db);
-    }
+    for (auto& axis : axes_)
+      for (const double x : t) {
+        Eigen::VectorXd db;
+        axis.B.push_back(bezier::bernstein_basis(degree, x, &db));
+        axis.dB.push_back(db);
+      }
   }
 
   void operator()(const std::vector<double>& x, std::vector<Eigen::RowVector3d>& out) const {
+    thread_local std::vector<std::array<double, 3>> rows;
+    rows.clear();
+    bezier::grid_derivatives(degree_, x.data(), axes_, 0, 2, rows);  // the corners
+    bezier::grid_derivatives(degree_, x.data(), axes_, 2, axes_[0].B.size(), rows);  // the Gauss points
     out.clear();
-    for (std::size_t c = 0; c < 8; ++c) out.push_back(row(x, c & 1, (c >> 1) & 1, (c >> 2) & 1));
-    for (std::size_t w = 2; w < B_.size(); ++w)
-      for (std::size_t v = 2; v < B_.size(); ++v)
-        for (std::size_t u = 2; u < B_.size(); ++u) out.push_back(row(x, u, v, w));
+    for (const auto& [xu, xv, xw] : rows) out.emplace_back(xu, xv, xw);
   }
 
  private:
-  Eigen::RowVector3d row(const std::vector<double>& x, std::size_t a, std::size_t b, std::size_t c) const {
-    const Eigen::VectorXd &Bu = B_[a], &dBu = dB_[a], &Bv = B_[b], &dBv = dB_[b], &Bw = B_[c], &dBw = dB_[c];
-    double xu = 0, xv = 0, xw = 0;
-    for (int k = 0; k < n_; ++k) {
-      double T = 0, Tu = 0, Tv = 0;
-      for (int j = 0; j < n_; ++j) {
-        double S = 0, Su = 0;
-        const double* P = &x[static_cast<std::size_t>(n_ * (j + n_ * k))];
-        for (int i = 0; i < n_; ++i) S += Bu[i] * P[i], Su += dBu[i] * P[i];
-        T += Bv[j] * S, Tu += Bv[j] * Su, Tv += dBv[j] * S;
-      }
-      xu += Bw[k] * Tu, xv += Bw[k] * Tv, xw += dBw[k] * T;
-    }
-    return Eigen::RowVector3d(xu, xv, xw);
-  }
-
-  int n_;
-  std::vector<Eigen::VectorXd> B_, dB_;  // at 0, 1, then the Gauss points
+  std::array<int, 3> degree_;
+  std::array<bezier::AxisBases, 3> axes_;  // at 0, 1, then the Gauss points
 };
 
 // The sampled Jacobians of a node's elements as affine functions of its displacement d,
