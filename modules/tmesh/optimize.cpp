@@ -94,7 +94,8 @@ class Spline {
     h.points.assign(static_cast<std::size_t>(h.num_points()), Eigen::Vector3d::Zero());
     // Bézier points = (Cu ⊗ Cv ⊗ Cw)ᵀ P, one direction at a time.
     const int n = p + 1;
-    std::vector<Eigen::Vector3d> P(static_cast<std::size_t>(n * n * n)), Q(P.size());
+    thread_local std::vector<Eigen::Vector3d> P, Q;  // scratch: hex() runs for every element a node supports
+    P.resize(static_cast<std::size_t>(n * n * n)), Q.resize(P.size());
     for (int k = 0; k < n; ++k)
       for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
@@ -123,7 +124,9 @@ class Spline {
     const TMesh& t = blocks_[static_cast<std::size_t>(el.block)];
     const auto& C = ops_[static_cast<std::size_t>(el.block)];
     const int n = t.degree + 1;
-    std::vector<double> P(static_cast<std::size_t>(n * n * n)), Q(P.size());
+    thread_local std::vector<double> P;
+    P.resize(static_cast<std::size_t>(n * n * n));
+    std::vector<double> Q(P.size());
     for (int k = 0; k < n; ++k)
       for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i)
@@ -536,7 +539,6 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
           continue;
         }
         s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
-        std::vector<bezier::BezierHex> hexes(els.size());
         std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
         std::vector<Quality> now(els.size());
         // Accepted iff every element's new figure exceeds `before` (and, for elements not certified
@@ -554,12 +556,12 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
           if (refused) return;
           const std::size_t k = order[i];
           const std::size_t x = static_cast<std::size_t>(els[k]);
-          hexes[k] = s.hex(x);
-          js[k] = bezier::jacobian_samples(hexes[k], params.gauss_points);
+          const bezier::BezierHex hex = s.hex(x);
+          js[k] = bezier::jacobian_samples(hex, params.gauss_points);
           now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
           double value = now[k].scaled;
           if (!q[x].valid) {
-            const bezier::CertifyResult c = bezier::certify(hexes[k], cp);
+            const bezier::CertifyResult c = bezier::certify(hex, cp);
             now[k].valid = c.status == bezier::Validity::valid;
             if (c.mean_detj > 0) value = std::min(value, c.min_detj_lower / c.mean_detj);
           }
@@ -569,7 +571,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
           }
           // A gain so far: certify the valid elements (the sampled figures refuse most moves
           // before any of these certifications).
-          if (q[x].valid && !(now[k].valid = bezier::certify(hexes[k], cp).status == bezier::Validity::valid)) refused = true;
+          if (q[x].valid && !(now[k].valid = bezier::certify(hex, cp).status == bezier::Validity::valid)) refused = true;
         }, 4);
         const bool ok = !refused;
         if (!ok) {
