@@ -133,11 +133,7 @@ Ring make_piece(const split::Decomposition& d, const split::Torus& torus, const 
   return r;
 }
 
-}  // namespace
-
-namespace {
-
-// The checks rings() and connectors() share: two tori whose components are torus cubes of theirs,
+// The checks rings() and connector() share: two tori whose components are torus cubes of theirs,
 // and either one filled disk between them or one connector cube (a cube component) with a filled
 // disk to each. Returns the connector's component, or -1.
 int check_two_tori(const split::Decomposition& d) {
