@@ -52,6 +52,53 @@ void place_patches(Embedding& e, const split::Layout& L, const std::vector<Place
   }
 }
 
+namespace {
+
+// Length of the chain of patch sides of `patch` between corners u and v (adjacent corners).
+double side_length(const split::Layout& L, int patch, int u, int v) {
+  const split::Patch& P = L.patches.at(static_cast<std::size_t>(patch));
+  for (std::size_t k = 0; k < 4; ++k) {
+    const int a = P.corners[k], b = P.corners[(k + 1) % 4];
+    if ((a == u && b == v) || (a == v && b == u)) {
+      double len = 0;
+      const auto& chain = P.sides[k];
+      for (std::size_t j = 0; j + 1 < chain.size(); ++j) {
+        const auto &x = L.points.at(static_cast<std::size_t>(chain[j])), &y = L.points.at(static_cast<std::size_t>(chain[j + 1]));
+        len += std::sqrt((x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) + (x[2] - y[2]) * (x[2] - y[2]));
+      }
+      return len;
+    }
+  }
+  throw core::TopologyError("polycube: patch " + std::to_string(patch) + " has no side between vertices " + std::to_string(u) + " and " + std::to_string(v));
+}
+
+// The corner line (0..3, the first corners of faces[i]) that becomes (b, c) = (0, 0): chosen so
+// that the two lines on the round ring's inner side (b = 0, radius 1) are the physically
+// shortest around the ring. Split's corner order is arbitrary: with it, the generated torus had
+// its outer side on the annulus's inner circle, and the rod's big eye its radial direction along
+// the annulus's height — a harmonic volume map then turns the solid inside out.
+int inner_corner_line(const split::Decomposition& d) {
+  std::array<double, 4> len{};
+  for (const int c : d.tori[0].components) {
+    const auto& comp = d.components.at(static_cast<std::size_t>(c));
+    for (int i = 0; i < 4; ++i) {
+      const auto& f = comp.faces[static_cast<std::size_t>(i)];
+      len[static_cast<std::size_t>(i)] += side_length(d.layout, f.patches.at(0), f.corners[0], f.corners[1]);
+    }
+  }
+  // Line i and line i + 3 (mod 4) span the b = 0 side; keep split's order unless another side is
+  // clearly (1 %) shorter.
+  int best = 0;
+  double best_len = len[0] + len[3];
+  for (int t = 1; t < 4; ++t) {
+    const double l = len[static_cast<std::size_t>(t)] + len[static_cast<std::size_t>((t + 3) % 4)];
+    if (l < 0.99 * best_len) best = t, best_len = l;
+  }
+  return best;
+}
+
+}  // namespace
+
 Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>& maps) {
   if (d.tori.size() != 1 || d.components.size() != d.tori[0].components.size())
     throw core::TopologyError("polycube: only a decomposition into one torus can be embedded yet (this one has " +
@@ -62,7 +109,8 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
   e.cells.resize(n);
   e.corner_vertex.resize(n);
   // Local corner (a, b, c) of cube k: the square corner q_i of the cross section is (b, c) =
-  // (0,0), (1,0), (1,1), (0,1) for corner line i = 0..3, and faces[i].corners = {(0,q_i), (1,q_i), ...}.
+  // (0,0), (1,0), (1,1), (0,1) for corner line (i + turn) mod 4, and faces[i].corners = {(0,q), (1,q), ...}
+  // with q line i's corner.
   static const int qb[4] = {0, 1, 1, 0}, qc[4] = {0, 0, 1, 1};
   for (int k = 0; k < n; ++k) {
     const auto& comp = d.components[d.tori[0].components[k]];
@@ -72,11 +120,16 @@ Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>
         throw core::TopologyError("polycube: a torus cube face made of " + std::to_string(comp.faces[i].patches.size()) +
                                   " patches (sharp curves inside a face) is not supported yet (issue 6); raise classify.sharp_angle_deg to ignore "
                                   "those curves, or set `route: tet`");
+  }
+  const int turn = inner_corner_line(d);
+  for (int k = 0; k < n; ++k) {
+    const auto& comp = d.components[d.tori[0].components[k]];
     for (int i = 0; i < 4; ++i)
       for (int a = 0; a < 2; ++a) {
-        const int corner = a + 2 * qb[i] + 4 * qc[i];
+        const int q = (i - turn + 4) % 4;
+        const int corner = a + 2 * qb[q] + 4 * qc[q];
         e.corner_vertex[k][corner] = comp.faces[i].corners[a];
-        e.cells[k][corner] = cell_point(e, k, {double(a), double(qb[i]), double(qc[i])});
+        e.cells[k][corner] = cell_point(e, k, {double(a), double(qb[q]), double(qc[q])});
       }
   }
   const split::Layout& L = d.layout;

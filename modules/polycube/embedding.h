@@ -50,7 +50,9 @@ struct Embedding {
 };
 
 /// Embeds a decomposition of one torus whose cube faces are single patches or cross sections,
-/// oriented like the surface (mirrored if needed, so the volume map keeps orientation). Throws
+/// oriented like the surface (mirrored if needed, so the volume map keeps orientation). The cross
+/// section's frame is turned so that its physically shortest side around the ring (the inner one)
+/// lies on the annulus's inner circle (b = 0). Throws
 /// core::TopologyError for other decompositions (several tori, virtual components, faces made of
 /// several patches), naming what is not supported yet.
 Embedding embed_torus(const split::Decomposition& d, const std::vector<PatchMap>& maps);

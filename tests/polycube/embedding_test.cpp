@@ -37,6 +37,7 @@ void check(const std::string& name, int cubes) {
   const auto maps = polycube::map_patches(d, {});
   const auto e = polycube::embed_torus(d, maps);
   EXPECT_LT(e.max_mismatch, 1e-12) << name;
+  test::expect_inner_side_shortest(d.layout.points, e, name);
   // Every vertex on its annulus: radius in [1, 2], height in [0, 1].
   const double inner = 1.0;
   for (const auto& p : e.points) {

@@ -11,12 +11,34 @@
 #include <cmath>
 #include <array>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "polycube/embedding.h"
 #include "split/split.h"
 #include "volmap/volmap.h"
 
 namespace volts::test {
+
+/// The embedding's inner circle (b = 0, radius 1) carries the physically shortest side of the
+/// ring: summed over the sectors, the chords along the ring at b = 0 are shorter than on any other
+/// side of the cross section. (Split's corner order is arbitrary; before the embedding chose its
+/// frame, the generated torus had its outer side on the inner circle, and its volume map's worst
+/// tet was 4x flatter.)
+inline void expect_inner_side_shortest(const std::vector<std::array<double, 3>>& pts, const polycube::Embedding& e, const std::string& name) {
+  // side 0: b = 0, 1: b = 1, 2: c = 0, 3: c = 1; a corner index is a + 2b + 4c
+  std::array<double, 4> len{};
+  for (const auto& cv : e.corner_vertex)
+    for (int bc = 0; bc < 4; ++bc) {
+      const auto& x = pts.at(static_cast<std::size_t>(cv[static_cast<std::size_t>(2 * bc)]));
+      const auto& y = pts.at(static_cast<std::size_t>(cv[static_cast<std::size_t>(2 * bc + 1)]));
+      const double l = std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
+      const int b = bc & 1, c = bc >> 1;
+      len[static_cast<std::size_t>(b)] += l;
+      len[static_cast<std::size_t>(2 + c)] += l;
+    }
+  for (int side = 1; side < 4; ++side) EXPECT_LT(len[0], len[static_cast<std::size_t>(side)]) << name << ": side " << side;
+}
 
 /// Points of parameter space checked against a volume map: how many lie in other than exactly one
 /// mapped tet, have no physical image, or map outside the solid.

@@ -72,6 +72,7 @@ TEST_P(TwoTori, EachRingIsAOneTorusDecompositionMappedWithoutFlips) {
     for (std::size_t v = 0; v < r.layout_vertex.size(); ++v) ASSERT_EQ(rd.layout.points[v], m.d.layout.points[r.layout_vertex[v]]);
     EXPECT_EQ(m.surface[i].flipped_surface_triangles, 0);
     EXPECT_LT(m.surface[i].embedding.max_mismatch, 1e-12);
+    test::expect_inner_side_shortest(rd.layout.points, m.surface[i].embedding, GetParam());
   }
 }
 
