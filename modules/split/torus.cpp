@@ -255,17 +255,38 @@ DiskCuts disk_cuts(const Mesh& m, DiskPatch& disk, const std::vector<double>& u0
   if (!(su > 0) || !(sv > 0)) throw core::TopologyError("split: the disk between the two tori has no extent around the ring or the tube");
   std::array<int, 4> at{};  // rim positions of the corners
   if (disk.corners[0] < 0) {
-    // The rim points furthest along the four diagonals, then moved (one rim vertex at a time) while
-    // that makes the arcs' ends agree better on the field they keep.
+    // First guess: the rim's own corners, the rim points furthest along the four diagonals of its
+    // principal axes, each scaled to the rim's extent along it (on a rounded rectangle, on the
+    // roundings). The diagonals of the ring and tube fields instead put the eight's neck corners on
+    // its flat faces, 0.2 in from the waist's outline: the disk's sides then wrapped around the
+    // outline, its cube's cross sections met it at nearly 180° and the pillow folded there (105
+    // elements of the eight not certified valid, 30 with these; docs/status.md, session 15).
+    // (Corners where the rim's normal is diagonal, further out on the roundings, gave 396.)
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const int v : R) centre += pt(m, v);
+    centre /= nr;
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const int v : R) cov += (pt(m, v) - centre) * (pt(m, v) - centre).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    const Eigen::Vector3d e1 = eig.eigenvectors().col(2), e2 = eig.eigenvectors().col(1);
+    std::vector<double> x1(nr), x2(nr);
+    double s1 = 0, s2 = 0;
+    for (int i = 0; i < nr; ++i) {
+      x1[i] = (pt(m, R[i]) - centre).dot(e1), x2[i] = (pt(m, R[i]) - centre).dot(e2);
+      s1 = std::max(s1, std::abs(x1[i])), s2 = std::max(s2, std::abs(x2[i]));
+    }
+    if (!(s1 > 0) || !(s2 > 0)) throw core::TopologyError("split: the rim of the disk between the two tori lies on a line");
     const std::array<std::array<double, 2>, 4> dirs{{{1, 1}, {1, -1}, {-1, -1}, {-1, 1}}};
     for (int k = 0; k < 4; ++k) {
       double best = -std::numeric_limits<double>::infinity();
       for (int i = 0; i < nr; ++i)
-        if (const double x = dirs[k][0] * du[i] / su + dirs[k][1] * dv[i] / sv; x > best) best = x, at[k] = i;
+        if (const double x = dirs[k][0] * x1[i] / s1 + dirs[k][1] * x2[i] / s2; x > best) best = x, at[k] = i;
     }
     std::sort(at.begin(), at.end());
     for (int k = 0; k < 4; ++k)
       if (at[k] == at[(k + 1) % 4]) throw core::TopologyError("split: the disk between the two tori has fewer than four distinct corners; refine the mesh");
+    // Then moved (one rim vertex at a time) while that makes the arcs' ends agree better on the
+    // field they keep.
     // Consecutive diagonal corners share a sign of u or of v: arcs 0, 2 keep u if corners 0, 1 do.
     const bool u02 = std::abs(du[at[0]] - du[at[1]]) / su < std::abs(dv[at[0]] - dv[at[1]]) / sv;
     auto mismatch = [&](const std::array<int, 4>& c) {

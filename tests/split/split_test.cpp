@@ -4,10 +4,13 @@
 // corners meet as a cube's do.
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
+#include <vector>
 
 #include "classify/classify.h"
 #include "common/test_util.h"
@@ -348,6 +351,32 @@ TEST(Split, EightWithAConnectorIsTwoToriAndANeckCubeOnTheirDisks) {
       const auto& tris = d.layout.patches[static_cast<std::size_t>(q)].triangles;
       const auto fills = std::count_if(tris.begin(), tris.end(), [&](int t) { return d.layout.filled[static_cast<std::size_t>(t)] != 0; });
       EXPECT_TRUE(fills == 0 || fills == static_cast<long>(tris.size())) << "patch " << q << " mixes disk and surface";
+      if (fills == 0) continue;
+      // The disk's corners lie on its rim's roundings: in the rim's principal frame, each corner is
+      // at least half way out along both axes (on the eight, corners chosen by the ring and tube
+      // fields sat 0.43 of the way out along the neck, and the pillow folded there).
+      const auto& P = d.layout.patches[static_cast<std::size_t>(q)];
+      std::vector<Eigen::Vector3d> rim;
+      for (const auto& side : P.sides)
+        for (std::size_t i = 0; i + 1 < side.size(); ++i) {
+          const auto& x = d.layout.points[static_cast<std::size_t>(side[i])];
+          rim.emplace_back(x[0], x[1], x[2]);
+        }
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (const auto& x : rim) centre += x;
+      centre /= static_cast<double>(rim.size());
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (const auto& x : rim) cov += (x - centre) * (x - centre).transpose();
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+      for (int axis : {2, 1}) {
+        const Eigen::Vector3d e = eig.eigenvectors().col(axis);
+        double extent = 0;
+        for (const auto& x : rim) extent = std::max(extent, std::abs((x - centre).dot(e)));
+        for (const int v : P.corners) {
+          const auto& x = d.layout.points[static_cast<std::size_t>(v)];
+          EXPECT_GE(std::abs((Eigen::Vector3d(x[0], x[1], x[2]) - centre).dot(e)), 0.5 * extent) << "disk patch " << q << ", axis " << axis;
+        }
+      }
     }
   }
   p.connector_cut = 0.01;
