@@ -139,6 +139,7 @@ core::Json report_figures(const VolumeMap& m) {
                     {"untangle_stop", m.untangle_stop},
                     {"min_volume_ratio", m.min_volume_ratio},
                     {"min_volume_ratio_before_smoothing", m.min_volume_ratio_before_smoothing},
+                    {"smooth_sweeps", m.smooth_sweeps},
                     {"parameter_volume", m.parameter_volume}};
 }
 
@@ -211,6 +212,7 @@ VolumeMap from_json(const core::Json& j, const std::string& file) {
   m.min_volume_ratio = get_double("min_volume_ratio");
   m.min_volume_ratio_before_smoothing =
       j.contains("min_volume_ratio_before_smoothing") ? get_double("min_volume_ratio_before_smoothing") : m.min_volume_ratio;
+  if (j.contains("smooth_sweeps")) m.smooth_sweeps = get_int("smooth_sweeps");
   m.parameter_volume = get_double("parameter_volume");
   return m;
 }

@@ -40,7 +40,8 @@ struct Params {
   /// Smoothing of a nearly degenerate map: if after untangling the min volume ratio (see
   /// VolumeMap::min_volume_ratio) is below smooth_below_ratio, every interior vertex in turn
   /// descends the foldover-free energy of Garanzha et al. 2021 of its tets (as a barrier: no tet
-  /// reaches det J <= 0), smooth_sweeps times [0, 1].
+  /// reaches det J <= 0; Newton steps, the Hessian by differences of the gradient),
+  /// smooth_sweeps times [0, 1].
   double smooth_below_ratio = 1e-3;
   int smooth_sweeps = 300;  ///< bound; it stops earlier when a sweep lowers the energy by < 1e-5 of it [0, 10000]; 0 = none
 };
@@ -73,6 +74,9 @@ struct VolumeMap {
   /// min_volume_ratio before smoothing (equal to it if the map was not smoothed); optional in stage
   /// files written before it existed
   double min_volume_ratio_before_smoothing = 0;
+  /// Sweeps the smoothing took (0: not smoothed; Params::smooth_sweeps: it stopped at its bound);
+  /// optional in stage files written before it existed.
+  int smooth_sweeps = 0;
   double parameter_volume = 0;             ///< volume of the parameter domain
 };
 
