@@ -433,7 +433,7 @@ void untangle_jointly(VolumeMap& vm, const std::vector<std::vector<int>>& nbrs, 
 }
 
 // After untangling, a map that is positive but nearly degenerate somewhere (the untangler only lifts
-// tets to 1e-4 of the mean volume; measured min volume ratio 1e-8 on the eight and the washer)
+// tets out of inversion, by default; measured min volume ratio 1e-8 on the eight and the washer)
 // makes the T-mesh sampled from it fold. Each interior vertex in turn descends the energy of its
 // tets with eps = 0 (a barrier at det J = 0): Newton steps (steepest descent where the Hessian is
 // not positive) with backtracking that never lets a tet reach det J <= 0. Per vertex, not jointly: on sliver reference shapes NLopt's joint L-BFGS

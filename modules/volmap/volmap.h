@@ -35,8 +35,10 @@ struct Params {
   /// 0 = no untangling.
   int untangle_max_sweeps = 500;
   /// Untangling target: tets whose parameter volume is below this fraction of the mean parameter
-  /// tet volume are improved [0, 1); 0 = only inverted and flat tets.
-  double untangle_min_volume_rel = 1e-4;
+  /// tet volume are improved [0, 1); 0 = only inverted and flat tets. 0 by default: the smoothing
+  /// below lifts thin tets faster (1e-4 took the untangler to its sweep bound on the eight: 2.6 s
+  /// against 1.0 s, the same worst tet after smoothing).
+  double untangle_min_volume_rel = 0;
   /// Smoothing of a nearly degenerate map: if after untangling the min volume ratio (see
   /// VolumeMap::min_volume_ratio) is below smooth_below_ratio, every interior vertex in turn
   /// descends the foldover-free energy of Garanzha et al. 2021 of its tets (as a barrier: no tet
