@@ -18,12 +18,6 @@ using Vec3 = std::array<double, 3>;
 
 double dist(const Vec3& a, const Vec3& b) { return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])); }
 
-double chain_length(const split::Layout& L, const std::vector<int>& chain) {
-  double s = 0;
-  for (std::size_t i = 1; i < chain.size(); ++i) s += dist(L.points[chain[i - 1]], L.points[chain[i]]);
-  return s;
-}
-
 std::string describe(const split::Decomposition& d) {
   std::string s;
   for (std::size_t c = 0; c < d.components.size(); ++c)

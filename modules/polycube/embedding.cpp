@@ -59,15 +59,7 @@ double side_length(const split::Layout& L, int patch, int u, int v) {
   const split::Patch& P = L.patches.at(static_cast<std::size_t>(patch));
   for (std::size_t k = 0; k < 4; ++k) {
     const int a = P.corners[k], b = P.corners[(k + 1) % 4];
-    if ((a == u && b == v) || (a == v && b == u)) {
-      double len = 0;
-      const auto& chain = P.sides[k];
-      for (std::size_t j = 0; j + 1 < chain.size(); ++j) {
-        const auto &x = L.points.at(static_cast<std::size_t>(chain[j])), &y = L.points.at(static_cast<std::size_t>(chain[j + 1]));
-        len += std::sqrt((x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) + (x[2] - y[2]) * (x[2] - y[2]));
-      }
-      return len;
-    }
+    if ((a == u && b == v) || (a == v && b == u)) return chain_length(L, P.sides[k]);
   }
   throw core::TopologyError("polycube: patch " + std::to_string(patch) + " has no side between vertices " + std::to_string(u) + " and " + std::to_string(v));
 }

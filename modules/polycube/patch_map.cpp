@@ -31,6 +31,12 @@ double angle_at(const P& p, const P& q, const P& r, int dim) {  // angle at p in
 
 }  // namespace
 
+double chain_length(const split::Layout& L, const std::vector<int>& chain) {
+  double s = 0;
+  for (std::size_t i = 1; i < chain.size(); ++i) s += dist(L.points[chain[i - 1]], L.points[chain[i]]);
+  return s;
+}
+
 std::vector<double> arc_length_fractions(const split::Layout& L, const std::vector<int>& chain) {
   std::vector<double> s(chain.size(), 0.0);
   for (std::size_t i = 1; i < chain.size(); ++i) s[i] = s[i - 1] + dist(L.points[chain[i - 1]], L.points[chain[i]]);

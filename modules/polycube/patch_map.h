@@ -68,6 +68,9 @@ enum class Fills { include, skip };
 /// negative if they turn inward there (a map that mirrors the surface).
 double layout_volume(const split::Layout& layout, const std::vector<std::array<double, 3>>& at, Fills fills);
 
+/// Length of a vertex chain (the sum of its edges).
+double chain_length(const split::Layout& layout, const std::vector<int>& chain);
+
 /// Arc-length fraction of each vertex along a vertex chain (0 at the first, 1 at the last).
 std::vector<double> arc_length_fractions(const split::Layout& layout, const std::vector<int>& chain);
 
