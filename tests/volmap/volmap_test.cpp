@@ -381,6 +381,7 @@ TEST(VolumeMapFiles, JsonRoundTripAndVtu) {
   EXPECT_EQ(back.min_volume_ratio, m.min_volume_ratio);
   EXPECT_EQ(back.untangle_joint, m.untangle_joint);
   EXPECT_EQ(back.untangle_stop, m.untangle_stop);
+  EXPECT_EQ(back.smooth_sweeps, m.smooth_sweeps);
   core::Json bad = volmap::to_json(m);
   bad["tets"][5] = 1 << 30;
   try {
@@ -396,8 +397,10 @@ TEST(VolumeMapFiles, JsonRoundTripAndVtu) {
   bad = volmap::to_json(m);
   bad.erase("flips");
   bad.erase("collapsed_edges");
+  bad.erase("smooth_sweeps");
   EXPECT_EQ(volmap::from_json(bad, "x.json").flips, 0);
-  for (const char* key : {"flips", "collapsed_edges"}) {
+  EXPECT_EQ(volmap::from_json(bad, "x.json").smooth_sweeps, 0);
+  for (const char* key : {"flips", "collapsed_edges", "smooth_sweeps"}) {
     bad = volmap::to_json(m);
     bad[key] = "two";
     try {
