@@ -45,7 +45,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
                          {"bezier_min_scaled_jacobian_before", opt.min_before}, {"bezier_min_scaled_jacobian_after", opt.min_after},
                          {"not_certified_valid_before", opt.invalid_before}, {"not_certified_valid_after", opt.invalid_after},
                          {"stop_reason", opt.stop_reason}, {"sweeps_cut_at_node_bound", opt.sweeps_cut_at_node_bound},
-                         {"trilinear_nodes_moved", opt.trilinear_nodes_moved}};
+                         {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds}};
   core::log(std::to_string(fig["blocks"].get<int>()) + " blocks, " + std::to_string(fig["elements"].get<int>()) + " elements, " +
             std::to_string(fig["nodes"].get<int>()) + " nodes, min control-net scaled Jacobian " + std::to_string(after));
   return fig;

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 #include <string>
 
@@ -118,6 +119,28 @@ class Spline {
     return h;
   }
 
+  // The transpose of hex(e): given d/dQ of the element's Bézier points (index i + n(j + nk)),
+  // writes d/dP of its control points in points_of(e)'s order (the same index layout).
+  void pull_back(std::size_t e, std::vector<Eigen::Vector3d>& g) const {
+    const Element& el = elements_[e];
+    const auto& C = ops_[static_cast<std::size_t>(el.block)];
+    const int n = blocks_[static_cast<std::size_t>(el.block)].degree + 1;
+    thread_local std::vector<Eigen::Vector3d> tmp;
+    tmp.assign(g.size(), Eigen::Vector3d::Zero());
+    auto apply_t = [&](const Eigen::MatrixXd& M, int stride, const std::vector<Eigen::Vector3d>& out, std::vector<Eigen::Vector3d>& in) {
+      std::fill(in.begin(), in.end(), Eigen::Vector3d::Zero());
+      for (std::size_t idx = 0; idx < out.size(); ++idx) {
+        const int along = (static_cast<int>(idx) / stride) % n;
+        const std::size_t base = idx - static_cast<std::size_t>(along * stride);
+        for (int a = 0; a < n; ++a) in[base + static_cast<std::size_t>(a * stride)] += M(a, along) * out[idx];
+      }
+    };
+    apply_t(C[2][static_cast<std::size_t>(el.e[2])], n * n, g, tmp);
+    apply_t(C[1][static_cast<std::size_t>(el.e[1])], n, tmp, g);
+    apply_t(C[0][static_cast<std::size_t>(el.e[0])], 1, g, tmp);
+    g.swap(tmp);
+  }
+
   // The x coordinates of hex(e)'s points, with its arithmetic (Vector3d sums are per coordinate).
   std::vector<double> hex_x(std::size_t e) const {
     const Element& el = elements_[e];
@@ -151,6 +174,7 @@ class Spline {
   const std::vector<int>& points_of(std::size_t e) const { return element_points_[e]; }
   int id_of(int block, int local) const { return point_id_[static_cast<std::size_t>(block)][static_cast<std::size_t>(local)]; }
   int block_of(std::size_t e) const { return elements_[e].block; }
+  int degree_of(std::size_t e) const { return blocks_[static_cast<std::size_t>(elements_[e].block)].degree; }
 
   std::array<double, 3> position(int id) const {
     const auto& [b, i] = occurrences_[static_cast<std::size_t>(id)].front();
@@ -411,6 +435,313 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
   }
 }
 
+// Bernstein values and derivatives of one degree at abscissae t (the same on the three axes).
+struct GridAxis {
+  int n = 0;                         // points per direction of the hex: degree + 1
+  std::vector<double> t;             // abscissae
+  std::vector<double> B, dB;         // B[i * n + a] = B_a(t_i)
+};
+
+GridAxis grid_axis(int degree, const std::vector<double>& t) {
+  GridAxis g;
+  g.n = degree + 1, g.t = t;
+  for (const double x : t) {
+    Eigen::VectorXd d;
+    const Eigen::VectorXd b = bezier::bernstein_basis(degree, x, &d);
+    for (int a = 0; a < g.n; ++a) g.B.push_back(b[a]), g.dB.push_back(d[a]);
+  }
+  return g;
+}
+
+// The joint phase's sample grids: the 8 corners and the n^3 Gauss points (what the sampled
+// figure looks at) or, for elements not certified valid (a fold can hide between those), a
+// uniform grid of `dense` points per direction, element boundary included.
+std::vector<GridAxis> joint_grids(int degree, int gauss_points, int dense) {
+  if (dense > 1) {
+    std::vector<double> t;
+    for (int i = 0; i < dense; ++i) t.push_back(i / (dense - 1.0));
+    return {grid_axis(degree, t)};
+  }
+  return {grid_axis(degree, {0.0, 1.0}), grid_axis(degree, bezier::gauss_legendre_points(gauss_points))};
+}
+
+// Jacobians of a polynomial hex (points Q[a + n(b + nc)]) at the grid points t_i × t_j × t_k
+// (i fastest), appended to J; by sum factorization, one axis at a time (a twentieth of the
+// operations of a sum over the points per sample for cubics).
+void grid_jacobians(const std::vector<Eigen::Vector3d>& Q, const GridAxis& g, std::vector<Eigen::Matrix3d>& J) {
+  const std::size_t n = static_cast<std::size_t>(g.n), m = g.t.size();
+  thread_local std::vector<Eigen::Vector3d> W0, W1, V00, V10, V01;
+  W0.assign(n * n * m, Eigen::Vector3d::Zero()), W1.assign(W0.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < m; ++k)  // w: W[a + n(b + nk)]
+    for (std::size_t c = 0; c < n; ++c) {
+      const double bc = g.B[k * n + c], dc = g.dB[k * n + c];
+      for (std::size_t ab = 0; ab < n * n; ++ab) W0[ab + n * n * k] += bc * Q[ab + n * n * c], W1[ab + n * n * k] += dc * Q[ab + n * n * c];
+    }
+  V00.assign(n * m * m, Eigen::Vector3d::Zero()), V10.assign(V00.size(), Eigen::Vector3d::Zero()), V01.assign(V00.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < m; ++k)  // v: V[a + n(j + mk)]
+    for (std::size_t j = 0; j < m; ++j)
+      for (std::size_t b = 0; b < n; ++b) {
+        const double bb = g.B[j * n + b], db = g.dB[j * n + b];
+        for (std::size_t a = 0; a < n; ++a) {
+          const std::size_t in = a + n * (b + n * k), out = a + n * (j + m * k);
+          V00[out] += bb * W0[in], V10[out] += db * W0[in], V01[out] += bb * W1[in];
+        }
+      }
+  for (std::size_t k = 0; k < m; ++k)  // u
+    for (std::size_t j = 0; j < m; ++j)
+      for (std::size_t i = 0; i < m; ++i) {
+        Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+        for (std::size_t a = 0; a < n; ++a) {
+          const std::size_t in = a + n * (j + m * k);
+          M.col(0) += g.dB[i * n + a] * V00[in], M.col(1) += g.B[i * n + a] * V10[in], M.col(2) += g.B[i * n + a] * V01[in];
+        }
+        J.push_back(M);
+      }
+}
+
+// The transpose of grid_jacobians: adds Σ_s tr(G_sᵀ ∂J_s/∂Q) to dQ for the grid's samples
+// G[first], G[first + 1], ... (G_s = weight × ∂(scaled Jacobian)/∂J).
+void grid_pull_back(const std::vector<Eigen::Matrix3d>& G, std::size_t first, const GridAxis& g, std::vector<Eigen::Vector3d>& dQ) {
+  const std::size_t n = static_cast<std::size_t>(g.n), m = g.t.size();
+  thread_local std::vector<Eigen::Vector3d> W0, W1, V00, V10, V01;
+  V00.assign(n * m * m, Eigen::Vector3d::Zero()), V10.assign(V00.size(), Eigen::Vector3d::Zero()), V01.assign(V00.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < m; ++k)
+    for (std::size_t j = 0; j < m; ++j)
+      for (std::size_t i = 0; i < m; ++i) {
+        const Eigen::Matrix3d& M = G[first + i + m * (j + m * k)];
+        for (std::size_t a = 0; a < n; ++a) {
+          const std::size_t out = a + n * (j + m * k);
+          V00[out] += g.dB[i * n + a] * M.col(0), V10[out] += g.B[i * n + a] * M.col(1), V01[out] += g.B[i * n + a] * M.col(2);
+        }
+      }
+  W0.assign(n * n * m, Eigen::Vector3d::Zero()), W1.assign(W0.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < m; ++k)
+    for (std::size_t j = 0; j < m; ++j)
+      for (std::size_t b = 0; b < n; ++b) {
+        const double bb = g.B[j * n + b], db = g.dB[j * n + b];
+        for (std::size_t a = 0; a < n; ++a) {
+          const std::size_t in = a + n * (j + m * k), out = a + n * (b + n * k);
+          W0[out] += bb * V00[in] + db * V10[in], W1[out] += bb * V01[in];
+        }
+      }
+  for (std::size_t k = 0; k < m; ++k)
+    for (std::size_t c = 0; c < n; ++c) {
+      const double bc = g.B[k * n + c], dc = g.dB[k * n + c];
+      for (std::size_t ab = 0; ab < n * n; ++ab) dQ[ab + n * n * c] += bc * W0[ab + n * n * k] + dc * W1[ab + n * n * k];
+    }
+}
+
+// Scaled Jacobian det J / (|J0||J1||J2|) and its derivative G = ∂/∂J (0 where a column vanishes):
+// ∂det/∂J_c is the cross product of the other two columns.
+double scaled_jacobian_gradient(const Eigen::Matrix3d& J, Eigen::Matrix3d& G) {
+  const Eigen::Vector3d n2(J.col(0).squaredNorm(), J.col(1).squaredNorm(), J.col(2).squaredNorm());
+  const double D = std::sqrt(n2[0] * n2[1] * n2[2]);
+  if (!(D > 0)) {
+    G.setZero();
+    return 0;
+  }
+  Eigen::Matrix3d cof;
+  cof.col(0) = J.col(1).cross(J.col(2));
+  cof.col(1) = J.col(2).cross(J.col(0));
+  cof.col(2) = J.col(0).cross(J.col(1));
+  const double sj = J.col(0).dot(cof.col(0)) / D;
+  for (int c = 0; c < 3; ++c) G.col(c) = cof.col(c) / D - sj * J.col(c) / n2[c];
+  return sj;
+}
+
+// The joint phase (OptimizeParams::joint_rounds): the interior nodes of the elements below
+// target + margin move together, by NLopt's L-BFGS on a smooth soft minimum of the scaled
+// Jacobian over the samples of every element they support,
+//   S = m − (1/β) log Σ_s exp(−β (SJ_s − m)),
+// with its analytic gradient. A per-node search cannot raise a plateau of equally bad elements
+// that share nodes (measured on the eight: 20 pillow elements within 0.02 of the worst); a joint
+// step can. The step is kept only if it raises the worst sampled figure of those elements (or
+// fixes elements not certified valid) and no certified-valid element loses its certificate;
+// otherwise it is halved twice, then dropped.
+void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, core::ThreadPool& pool,
+                 const OptimizeParams& params, OptimizeResult& r) {
+  const bezier::CertifyParams cp;
+  for (int round = 0; round < params.joint_rounds; ++round) {
+    // Variables: interior nodes of the elements below the target (or not certified valid).
+    std::vector<int> var_of;  // per node id: variable index or -1
+    std::vector<int> ids;
+    for (std::size_t e = 0; e < s.size(); ++e) {
+      if (q[e].valid && q[e].scaled >= params.target) continue;
+      for (const int local : s.points_of(e)) {
+        const int id = s.id_of(s.block_of(e), local);
+        if (static_cast<std::size_t>(id) >= var_of.size()) var_of.resize(static_cast<std::size_t>(id) + 1, -1);
+        if (var_of[static_cast<std::size_t>(id)] < 0 && !s.on_surface(id)) {
+          var_of[static_cast<std::size_t>(id)] = static_cast<int>(ids.size());
+          ids.push_back(id);
+        }
+      }
+    }
+    if (ids.empty()) return;
+    std::vector<int> els;  // every element a variable node supports
+    {
+      std::vector<char> in(s.size(), 0);
+      for (const int id : ids)
+        for (const int e : s.elements_of(id)) in[static_cast<std::size_t>(e)] = 1;
+      for (std::size_t e = 0; e < s.size(); ++e)
+        if (in[e]) els.push_back(static_cast<int>(e));
+    }
+    double before = std::numeric_limits<double>::infinity();
+    int invalid_before = 0;
+    for (const int e : els) before = std::min(before, q[static_cast<std::size_t>(e)].scaled), invalid_before += q[static_cast<std::size_t>(e)].valid ? 0 : 1;
+    std::vector<double> x0(3 * ids.size()), lower(x0.size()), upper(x0.size());
+    for (std::size_t v = 0; v < ids.size(); ++v) {
+      const auto p = s.position(ids[v]);
+      const double h = 0.5 * s.neighbour_distance(ids[v]);
+      for (int d = 0; d < 3; ++d) {
+        x0[3 * v + static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)];
+        lower[3 * v + static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)] - (std::isfinite(h) ? h : 0.0);
+        upper[3 * v + static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)] + (std::isfinite(h) ? h : 0.0);
+      }
+    }
+    auto set_all = [&](const std::vector<double>& x) {
+      for (std::size_t v = 0; v < ids.size(); ++v) s.set_position(ids[v], {x[3 * v], x[3 * v + 1], x[3 * v + 2]});
+    };
+    // Per element: its samples' scaled Jacobians and their gradients (one degree per run of
+    // blocks is the common case; the table is per degree).
+    std::vector<std::vector<double>> sj(els.size());
+    std::vector<std::vector<Eigen::Matrix3d>> dsj(els.size());
+    std::vector<std::vector<Eigen::Vector3d>> dP(els.size());
+    // Sample grids per degree, the usual ones and the dense one of elements not certified valid.
+    std::map<std::pair<int, bool>, std::vector<GridAxis>> grids;
+    std::vector<const std::vector<GridAxis>*> grids_of(els.size());
+    for (std::size_t k = 0; k < els.size(); ++k) {
+      const std::size_t e = static_cast<std::size_t>(els[k]);
+      const std::pair<int, bool> key{s.degree_of(e), !q[e].valid};
+      auto it = grids.find(key);
+      if (it == grids.end()) it = grids.emplace(key, joint_grids(key.first, params.gauss_points, key.second ? params.joint_dense_points : 0)).first;
+      grids_of[k] = &it->second;
+    }
+    const double beta = params.joint_sharpness;
+    int evaluations = 0;
+    std::vector<double> reached;  // the first point whose samples are all at the target
+    auto objective = [&](const std::vector<double>& x, std::vector<double>& grad) {
+      ++evaluations;
+      set_all(x);
+      pool.for_each(els.size(), [&](std::size_t k) {
+        const std::size_t e = static_cast<std::size_t>(els[k]);
+        const bezier::BezierHex h = s.hex(e);
+        std::vector<Eigen::Matrix3d>& J = dsj[k];  // the Jacobians, then (gradient pass) ∂SJ/∂J
+        J.clear();
+        for (const GridAxis& g : *grids_of[k]) grid_jacobians(h.points, g, J);
+        sj[k].resize(J.size());
+        for (std::size_t i = 0; i < J.size(); ++i) sj[k][i] = bezier::scaled_jacobian(J[i]);
+      });
+      // The soft minimum, its sums per element on the pool (added in order: reproducible).
+      std::vector<double> local_min(els.size()), local_sum(els.size());
+      pool.for_each(els.size(), [&](std::size_t k) { local_min[k] = *std::min_element(sj[k].begin(), sj[k].end()); });
+      const double lo = *std::min_element(local_min.begin(), local_min.end());
+      pool.for_each(els.size(), [&](std::size_t k) {
+        double z = 0;
+        for (const double x1 : sj[k]) z += std::exp(-beta * (x1 - lo));
+        local_sum[k] = z;
+      });
+      double Z = 0;
+      for (const double z : local_sum) Z += z;
+      if (!grad.empty()) {
+        pool.for_each(els.size(), [&](std::size_t k) {
+          const std::size_t e = static_cast<std::size_t>(els[k]);
+          // Samples whose weight is below e^-20 of the largest are left out of the gradient (all of them
+          // together change it by less than 1e-3 of the largest weight on the eight).
+          if (beta * (local_min[k] - lo) > 20) {
+            dP[k].clear();
+            return;
+          }
+          const std::size_t n = static_cast<std::size_t>(s.degree_of(e)) + 1;
+          dP[k].assign(n * n * n, Eigen::Vector3d::Zero());
+          for (std::size_t i = 0; i < sj[k].size(); ++i) {
+            if (beta * (sj[k][i] - lo) > 20) {
+              dsj[k][i].setZero();
+              continue;
+            }
+            const Eigen::Matrix3d J = dsj[k][i];
+            scaled_jacobian_gradient(J, dsj[k][i]);
+            dsj[k][i] *= std::exp(-beta * (sj[k][i] - lo)) / Z;
+          }
+          std::size_t first = 0;
+          for (const GridAxis& g : *grids_of[k]) {
+            grid_pull_back(dsj[k], first, g, dP[k]);
+            first += g.t.size() * g.t.size() * g.t.size();
+          }
+          s.pull_back(e, dP[k]);
+        });
+        std::fill(grad.begin(), grad.end(), 0.0);
+        for (std::size_t k = 0; k < els.size(); ++k) {
+          const std::size_t e = static_cast<std::size_t>(els[k]);
+          const std::vector<int>& pts = s.points_of(e);
+          if (dP[k].empty()) continue;
+          for (std::size_t j = 0; j < pts.size(); ++j) {
+            const int id = s.id_of(s.block_of(e), pts[j]);
+            const int v = static_cast<std::size_t>(id) < var_of.size() ? var_of[static_cast<std::size_t>(id)] : -1;
+            if (v < 0) continue;
+            for (int d = 0; d < 3; ++d) grad[3 * static_cast<std::size_t>(v) + static_cast<std::size_t>(d)] += dP[k][j][d];
+          }
+        }
+      }
+      // Every sample at the target: stop here (later evaluations only spread the gain).
+      if (lo >= params.target + 1e-3) {
+        reached = x;
+        throw nlopt::forced_stop();
+      }
+      return lo - std::log(Z) / beta;
+    };
+    nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(x0.size()));
+    opt.set_lower_bounds(lower);
+    opt.set_upper_bounds(upper);
+    using Objective = decltype(objective);
+    opt.set_max_objective([](const std::vector<double>& x, std::vector<double>& g, void* f) { return (*static_cast<Objective*>(f))(x, g); }, &objective);
+    opt.set_maxeval(params.joint_evaluations);
+    opt.set_ftol_abs(1e-7);
+    std::vector<double> x = x0;
+    double value = 0;
+    try {
+      opt.optimize(x, value);
+    } catch (const std::exception&) {  // roundoff-limited: x holds the best point NLopt reported
+    }
+    if (!reached.empty()) x = reached;
+    // Keep the step, or half or a quarter of it, if the elements gain and stay certified valid.
+    bool accepted = false;
+    double after = before;
+    for (const double alpha : {1.0, 0.5, 0.25}) {
+      std::vector<double> y(x0.size());
+      for (std::size_t i = 0; i < y.size(); ++i) y[i] = x0[i] + alpha * (x[i] - x0[i]);
+      set_all(y);
+      std::vector<Quality> now(els.size());
+      std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
+      std::atomic<bool> refused{false};
+      pool.for_each(els.size(), [&](std::size_t k) {
+        if (refused) return;
+        const std::size_t e = static_cast<std::size_t>(els[k]);
+        const bezier::BezierHex h = s.hex(e);
+        js[k] = bezier::jacobian_samples(h, params.gauss_points);
+        now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
+        if (now[k].scaled < before) refused = true;
+        now[k].valid = bezier::certify(h, cp).status == bezier::Validity::valid;
+        if (q[e].valid && !now[k].valid) refused = true;
+      });
+      if (refused) continue;
+      double worst = std::numeric_limits<double>::infinity();
+      int invalid = 0;
+      for (const auto& x1 : now) worst = std::min(worst, x1.scaled), invalid += x1.valid ? 0 : 1;
+      if (!(worst > before + 1e-9) && invalid >= invalid_before) continue;
+      for (std::size_t k = 0; k < els.size(); ++k) q[static_cast<std::size_t>(els[k])] = now[k], samples[static_cast<std::size_t>(els[k])] = std::move(js[k]);
+      accepted = true, after = worst;
+      break;
+    }
+    if (!accepted) set_all(x0);
+    core::log("joint round " + std::to_string(round + 1) + ": " + std::to_string(ids.size()) + " nodes, " + std::to_string(els.size()) +
+              " elements, " + std::to_string(evaluations) + " evaluations, worst sampled scaled Jacobian " + std::to_string(before) + " -> " +
+              std::to_string(after) + (accepted ? "" : " (step refused)"));
+    if (!accepted) return;
+    ++r.joint_rounds;
+    if (after < before + params.min_gain) return;
+  }
+}
+
 }  // namespace
 
 OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params) {
@@ -422,6 +753,11 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     throw core::ConfigError("tmesh optimization: min_gain and min_fixed_rel must be in [0, 1] and patience in [1, 100]");
   if (params.trilinear_sweeps < 0 || params.trilinear_sweeps > 100 || !(params.trilinear_target >= -1 && params.trilinear_target <= 1))
     throw core::ConfigError("tmesh optimization: trilinear_sweeps must be in [0, 100] and trilinear_target in [-1, 1]");
+  if (params.joint_rounds < 0 || params.joint_rounds > 100 || params.joint_evaluations < 1 || params.joint_evaluations > 100000 ||
+      !(params.joint_sharpness > 0 && params.joint_sharpness <= 1000) || params.joint_dense_points < 2 || params.joint_dense_points > 32)
+    throw core::ConfigError(
+        "tmesh optimization: joint_rounds must be in [0, 100], joint_evaluations in [1, 100000], joint_sharpness in (0, 1000] and "
+        "joint_dense_points in [2, 32]");
   OptimizeResult r;
   Spline s(blocks);
   const bezier::CertifyParams cp;
@@ -444,8 +780,10 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     for (const auto& x : q) *worst = std::min(*worst, x.scaled), *invalid += x.valid ? 0 : 1;
   };
   summary(&r.min_before, &r.invalid_before);
-  double last_worst = r.min_before;
-  int last_invalid = r.invalid_before, stalled = 0;
+  if (params.sweeps > 0) joint_phase(s, q, samples, pool, params, r);
+  double last_worst = 0;
+  int last_invalid = 0, stalled = 0;
+  summary(&last_worst, &last_invalid);
   for (int sweep = 0; sweep < params.sweeps; ++sweep) {
     std::vector<std::size_t> bad;
     for (std::size_t e = 0; e < s.size(); ++e)
