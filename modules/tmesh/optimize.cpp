@@ -549,15 +549,14 @@ double scaled_jacobian_gradient(const Eigen::Matrix3d& J, Eigen::Matrix3d& G) {
   return sj;
 }
 
-// The joint phase (OptimizeParams::joint_rounds): the interior nodes of the elements below
-// target + margin move together, by NLopt's L-BFGS on a smooth soft minimum of the scaled
-// Jacobian over the samples of every element they support,
+// The joint phase (OptimizeParams::joint_rounds): the interior nodes of the elements below the
+// target move together, by NLopt's L-BFGS on a smooth soft minimum of the scaled Jacobian over
+// the samples of every element they support,
 //   S = m − (1/β) log Σ_s exp(−β (SJ_s − m)),
 // with its analytic gradient. A per-node search cannot raise a plateau of equally bad elements
 // that share nodes (measured on the eight: 20 pillow elements within 0.02 of the worst); a joint
-// step can. The step is kept only if it raises the worst sampled figure of those elements (or
-// fixes elements not certified valid) and no certified-valid element loses its certificate;
-// otherwise it is halved twice, then dropped.
+// step can. Where the step costs an element its certificate (or its figure falls below the worst
+// one), the nodes of that element go back (see the acceptance below).
 void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, core::ThreadPool& pool,
                  const OptimizeParams& params, OptimizeResult& r) {
   const bezier::CertifyParams cp;
@@ -703,42 +702,83 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     } catch (const std::exception&) {  // roundoff-limited: x holds the best point NLopt reported
     }
     if (!reached.empty()) x = reached;
-    // Keep the step, or half or a quarter of it, if the elements gain and stay certified valid.
-    bool accepted = false;
-    double after = before;
-    for (const double alpha : {1.0, 0.5, 0.25}) {
-      std::vector<double> y(x0.size());
-      for (std::size_t i = 0; i < y.size(); ++i) y[i] = x0[i] + alpha * (x[i] - x0[i]);
-      set_all(y);
-      std::vector<Quality> now(els.size());
-      std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
-      std::atomic<bool> refused{false};
-      pool.for_each(els.size(), [&](std::size_t k) {
-        if (refused) return;
-        const std::size_t e = static_cast<std::size_t>(els[k]);
-        const bezier::BezierHex h = s.hex(e);
-        js[k] = bezier::jacobian_samples(h, params.gauss_points);
-        now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
-        if (now[k].scaled < before) refused = true;
-        now[k].valid = bezier::certify(h, cp).status == bezier::Validity::valid;
-        if (q[e].valid && !now[k].valid) refused = true;
-      });
-      if (refused) continue;
-      double worst = std::numeric_limits<double>::infinity();
-      int invalid = 0;
-      for (const auto& x1 : now) worst = std::min(worst, x1.scaled), invalid += x1.valid ? 0 : 1;
-      if (!(worst > before + 1e-9) && invalid >= invalid_before) continue;
-      for (std::size_t k = 0; k < els.size(); ++k) q[static_cast<std::size_t>(els[k])] = now[k], samples[static_cast<std::size_t>(els[k])] = std::move(js[k]);
-      accepted = true, after = worst;
-      break;
-    }
-    if (!accepted) set_all(x0);
+    // Keep the step where it does no harm: the nodes of every element that lost its certificate or
+    // fell below the worst figure before go back to their start, and the elements they support are
+    // checked again, until none does (an element whose nodes are all back is as it was). If nodes
+    // had to go back, half and a quarter of the step are tried too; the best of them (fewest
+    // elements not certified valid, then the highest worst figure) is kept if the worst figure
+    // rose or elements not certified valid were fixed.
+    std::vector<int> index_of(s.size(), -1);
+    for (std::size_t k = 0; k < els.size(); ++k) index_of[static_cast<std::size_t>(els[k])] = static_cast<int>(k);
+    struct Step {
+      std::vector<double> y;  // the variables after the nodes went back
+      std::vector<Quality> now;
+      std::vector<std::vector<Eigen::Matrix3d>> js;
+      double worst = 0;
+      int invalid = 0, reverted = 0;
+    };
+    auto try_step = [&](double alpha) {
+      Step t;
+      t.y.resize(x0.size());
+      for (std::size_t i = 0; i < x0.size(); ++i) t.y[i] = x0[i] + alpha * (x[i] - x0[i]);
+      set_all(t.y);
+      t.now.resize(els.size()), t.js.resize(els.size());
+      std::vector<char> dirty(els.size(), 1), back(ids.size(), 0);
+      for (;;) {
+        std::vector<std::size_t> todo;
+        for (std::size_t k = 0; k < els.size(); ++k)
+          if (dirty[k]) todo.push_back(k), dirty[k] = 0;
+        if (todo.empty()) break;
+        std::vector<char> bad(todo.size(), 0);
+        pool.for_each(todo.size(), [&](std::size_t i) {
+          const std::size_t k = todo[i], e = static_cast<std::size_t>(els[k]);
+          const bezier::BezierHex h = s.hex(e);
+          t.js[k] = bezier::jacobian_samples(h, params.gauss_points);
+          t.now[k].scaled = bezier::summarize_jacobians(t.js[k]).min_scaled;
+          t.now[k].valid = bezier::certify(h, cp).status == bezier::Validity::valid;
+          bad[i] = t.now[k].scaled < before || (q[e].valid && !t.now[k].valid);
+        });
+        for (std::size_t i = 0; i < todo.size(); ++i) {
+          if (!bad[i]) continue;
+          const std::size_t e = static_cast<std::size_t>(els[todo[i]]);
+          for (const int local : s.points_of(e)) {
+            const int id = s.id_of(s.block_of(e), local);
+            const int v = static_cast<std::size_t>(id) < var_of.size() ? var_of[static_cast<std::size_t>(id)] : -1;
+            if (v < 0 || back[static_cast<std::size_t>(v)]) continue;
+            back[static_cast<std::size_t>(v)] = 1, ++t.reverted;
+            const std::size_t at = 3 * static_cast<std::size_t>(v);
+            for (std::size_t d = 0; d < 3; ++d) t.y[at + d] = x0[at + d];
+            s.set_position(id, {x0[at], x0[at + 1], x0[at + 2]});
+            for (const int e2 : s.elements_of(id)) dirty[static_cast<std::size_t>(index_of[static_cast<std::size_t>(e2)])] = 1;
+          }
+        }
+      }
+      t.worst = std::numeric_limits<double>::infinity();
+      for (const auto& x1 : t.now) t.worst = std::min(t.worst, x1.scaled), t.invalid += x1.valid ? 0 : 1;
+      return t;
+    };
+    Step best = try_step(1.0);
+    if (best.reverted > 0)
+      for (const double alpha : {0.5, 0.25}) {
+        Step t = try_step(alpha);
+        if (t.invalid < best.invalid || (t.invalid == best.invalid && t.worst > best.worst)) best = std::move(t);
+      }
+    const bool accepted = best.worst > before + 1e-9 || best.invalid < invalid_before;
+    const double after = accepted ? best.worst : before;
+    const int invalid = accepted ? best.invalid : invalid_before, reverted = best.reverted;
+    set_all(accepted ? best.y : x0);
+    if (accepted)
+      for (std::size_t k = 0; k < els.size(); ++k) q[static_cast<std::size_t>(els[k])] = best.now[k], samples[static_cast<std::size_t>(els[k])] = std::move(best.js[k]);
     core::log("joint round " + std::to_string(round + 1) + ": " + std::to_string(ids.size()) + " nodes, " + std::to_string(els.size()) +
               " elements, " + std::to_string(evaluations) + " evaluations, worst sampled scaled Jacobian " + std::to_string(before) + " -> " +
-              std::to_string(after) + (accepted ? "" : " (step refused)"));
+              std::to_string(after) + ", not certified valid " + std::to_string(invalid_before) + " -> " +
+              std::to_string(invalid) + ", " + std::to_string(reverted) + " nodes put back" +
+              (accepted ? "" : " (step refused)"));
     if (!accepted) return;
     ++r.joint_rounds;
-    if (after < before + params.min_gain) return;
+    const bool progress = (invalid_before > 0 && invalid_before - invalid >= std::max(1.0, params.min_fixed_rel * invalid_before)) ||
+                          after >= before + params.min_gain;
+    if (!progress) return;
   }
 }
 

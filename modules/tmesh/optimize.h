@@ -53,9 +53,12 @@ struct OptimizeParams {
   /// First, joint rounds: the interior nodes of the elements below `target` move
   /// together by L-BFGS on a soft minimum of the sampled scaled Jacobian of all their elements,
   /// S = m − (1/β) log Σ exp(−β (SJ − m)), β = `joint_sharpness`. A round is kept only if it
-  /// raises the worst figure of those elements (or fixes elements not certified valid) and no
-  /// certified-valid element loses its certificate; rounds stop when one gains less than min_gain.
-  int joint_rounds = 3;          ///< [0, 100]; 0 = per-node sweeps only
+  /// raises the worst figure of those elements or fixes elements not certified valid; where an
+  /// element loses its certificate or falls below the worst figure, its nodes go back to where the
+  /// round started (repeated until none does). Rounds stop when one neither fixes enough
+  /// elements (`min_fixed_rel`) nor raises the worst figure enough (`min_gain`), or when every
+  /// sample reaches `target`.
+  int joint_rounds = 10;         ///< [0, 100]; 0 = per-node sweeps only
   int joint_evaluations = 100;   ///< bound on objective and gradient evaluations per round [1, 100000]
   double joint_sharpness = 40;   ///< β, per unit of scaled Jacobian (0, 1000]
   /// Elements not certified valid are sampled on a uniform grid of this many points per direction

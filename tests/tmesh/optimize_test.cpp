@@ -213,7 +213,7 @@ TEST(Optimize, JointRoundsRaiseTheWorstJacobianAtLeastAsFarAsPerNodeSweeps) {
                   rj.min_before, rj.invalid_before, rj.min_after, rj.invalid_after, rj.joint_rounds, rn.min_after, rn.invalid_after);
       EXPECT_GE(rj.joint_rounds, 1);
       EXPECT_GT(rj.min_after, rj.min_before + 0.01);
-      EXPECT_LE(rj.invalid_after, rj.invalid_before);
+      EXPECT_EQ(rj.invalid_after, 0);  // the per-node sweeps alone leave up to 32 of 64
       EXPECT_LE(rj.invalid_after, rn.invalid_after);
       EXPECT_GE(rj.min_after, rn.min_after);
       expect_surface_kept_and_shared_together(joint, start);
