@@ -99,6 +99,91 @@ std::vector<int> shortest_path(const Mesh& m, int a, int b, const std::vector<ch
   return path;
 }
 
+// The neck's four side curves as level sets: with θ on each rim going 0, 1/4, 1/2, 3/4 at its
+// corners (linear in arc length between them; rim 1's corners in their pairing with rim 0's), the
+// harmonic extensions of sin 2πθ and cos 2πθ vanish on curves from corner k of one rim to corner k
+// of the other (sin: k = 0, 2; cos: 1, 3) that leave both rims across them, as straight lines on a
+// cylinder do. Inserted into N's neck faces (fills are not cut); their edges added to `cuts`.
+// Returns false (N unchanged) if the level sets are not four such curves (a long twisted neck).
+bool neck_side_isolines(Submesh& N, const std::vector<char>& neck_faces, const std::array<std::vector<int>, 2>& rim,
+                        const std::array<std::array<int, 4>, 2>& corner, std::set<Edge>* cuts) {
+  Mesh m = N.mesh;
+  const auto pos = [&](int v) {
+    const auto& q = m.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(v)));
+    return Eigen::Vector3d(q.x(), q.y(), q.z());
+  };
+  const double two_pi = 2 * std::acos(-1.0);
+  std::vector<Constraint> cs, cc;
+  std::vector<char> on_rim(m.number_of_vertices(), 0);
+  for (int i = 0; i < 2; ++i) {
+    const auto& R = rim[static_cast<std::size_t>(i)];
+    const int n = static_cast<int>(R.size());
+    std::array<int, 4> at{};
+    for (int k = 0; k < 4; ++k) {
+      const auto it = std::find(R.begin(), R.end(), corner[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)]);
+      if (it == R.end()) return false;
+      at[static_cast<std::size_t>(k)] = static_cast<int>(it - R.begin());
+    }
+    auto ordered = [&](int dir) {
+      const auto off = [&](int k) { return ((at[static_cast<std::size_t>(k)] - at[0]) * dir % n + n) % n; };
+      return off(1) < off(2) && off(2) < off(3);
+    };
+    const int dir = ordered(1) ? 1 : ordered(-1) ? -1 : 0;
+    if (dir == 0) return false;
+    for (int k = 0; k < 4; ++k) {
+      std::vector<int> arc;
+      for (int j = at[static_cast<std::size_t>(k)];; j = ((j + dir) % n + n) % n) {
+        arc.push_back(R[static_cast<std::size_t>(j)]);
+        if (j == at[static_cast<std::size_t>((k + 1) % 4)]) break;
+      }
+      std::vector<double> len(arc.size(), 0.0);
+      for (std::size_t j = 1; j < arc.size(); ++j) len[j] = len[j - 1] + (pos(arc[j]) - pos(arc[j - 1])).norm();
+      for (std::size_t j = 0; j + 1 < arc.size(); ++j) {  // the last is the next arc's first
+        const double theta = (k + len[j] / len.back()) / 4;
+        // Exact zeros at the corners, so the level sets pass through them.
+        cs.push_back({arc[j], j == 0 && k % 2 == 0 ? 0.0 : std::sin(two_pi * theta)});
+        cc.push_back({arc[j], j == 0 && k % 2 == 1 ? 0.0 : std::cos(two_pi * theta)});
+        on_rim[static_cast<std::size_t>(arc[j])] = 1;
+      }
+    }
+  }
+  std::vector<double> fs = harmonic_field(m, cs), fc = harmonic_field(m, cc);
+  std::vector<char> mask = neck_faces;
+  std::set<int> first_curves;  // vertices of the sin curves, which the cos curves must not touch
+  std::set<Edge> added = *cuts;
+  std::vector<std::array<int, 3>> splits;
+  for (int field = 0; field < 2; ++field) {
+    IsolineOptions opt;
+    opt.face_mask = &mask;
+    opt.splits = &splits;
+    opt.carried = {{field == 0 ? &fc : &fs, 0.0}};
+    splits.clear();
+    const auto chains = insert_isoline(m, field == 0 ? fs : fc, 0.0, opt);
+    apply_splits(added, splits);
+    on_rim.resize(m.number_of_vertices(), 0);
+    int found = 0;
+    for (const auto& ch : chains) {
+      if (ch.size() < 2) return false;
+      bool ok = false;
+      for (int k = field; k < 4; k += 2) {
+        const int a = corner[0][static_cast<std::size_t>(k)], b = corner[1][static_cast<std::size_t>(k)];
+        ok |= (ch.front() == a && ch.back() == b) || (ch.front() == b && ch.back() == a);
+      }
+      for (std::size_t j = 1; j + 1 < ch.size(); ++j) ok &= !on_rim[static_cast<std::size_t>(ch[j])];
+      for (const int v : ch) ok &= field == 0 || !first_curves.count(v);
+      if (!ok) return false;
+      if (field == 0) first_curves.insert(ch.begin(), ch.end());
+      for (std::size_t j = 1; j < ch.size(); ++j)
+        if (!added.insert(edge(ch[j - 1], ch[j])).second) return false;  // a curve along another
+      ++found;
+    }
+    if (found != 2) return false;
+  }
+  N.mesh = std::move(m);
+  *cuts = std::move(added);
+  return true;
+}
+
 }  // namespace
 
 Decomposition split_two_tori(const Mesh& input, const Params& prm) {
@@ -366,19 +451,36 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
         if (total < best) best = total, pair = pr;
       }
     if (!std::isfinite(best)) throw core::TopologyError("split: the corners of the two disks are not joined across the neck");
-    std::set<Edge> cuts;
+    std::array<std::vector<int>, 2> rim_local;
+    for (int i = 0; i < 2; ++i)
+      for (int v : rim[i]) rim_local[i].push_back(local.at(v));
+    std::array<std::array<int, 4>, 2> corner_local{};
+    for (int k = 0; k < 4; ++k) corner_local[0][k] = local.at(disk_corners[0][k]), corner_local[1][k] = local.at(disk_corners[1][pair[k]]);
     std::vector<char> is_corner(static_cast<std::size_t>(nn), 0);
-    for (int i = 0; i < 2; ++i) {
-      std::vector<int> loop;
-      for (int v : rim[i]) loop.push_back(local.at(v));
+    for (int i = 0; i < 2; ++i)
+      for (int k = 0; k < 4; ++k) is_corner[static_cast<std::size_t>(corner_local[i][k])] = 1;
+    std::set<Edge> cuts;
+    for (const auto& loop : rim_local)
       for (std::size_t k = 0; k < loop.size(); ++k) cuts.insert(edge(loop[k], loop[(k + 1) % loop.size()]));
-      for (int k = 0; k < 4; ++k) is_corner[static_cast<std::size_t>(local.at(disk_corners[i][k]))] = 1;
-    }
-    for (int a = 0; a < 4; ++a) {  // one after the other, each avoiding the ones before
-      const std::vector<int> pth = shortest_path(N.mesh, local.at(disk_corners[0][a]), local.at(disk_corners[1][pair[a]]), blocked);
-      if (pth.empty()) throw core::TopologyError("split: the neck's side curves cross; the disks' corners do not match");
-      for (std::size_t k = 1; k < pth.size(); ++k) cuts.insert(edge(pth[k - 1], pth[k]));
-      for (std::size_t k = 1; k + 1 < pth.size(); ++k) blocked[static_cast<std::size_t>(pth[k])] = 1;
+    // The side curves: level sets across the neck, which leave the rims across them; the shortest
+    // edge paths of the coarse eight left one corner at 21° to its rim, and that corner's element
+    // could not pass a scaled Jacobian of 0.09 (docs/status.md, session 17).
+    std::vector<char> neck_faces(N.mesh.number_of_faces(), 1);
+    for (std::size_t x = 0; x < N.layout_triangle.size(); ++x) neck_faces[x] = all_fill.count(N.layout_triangle[x]) ? 0 : 1;
+    if (!neck_side_isolines(N, neck_faces, rim_local, corner_local, &cuts))
+      for (int a = 0; a < 4; ++a) {  // fallback: shortest paths, one after the other, each avoiding the ones before
+        const std::vector<int> pth = shortest_path(N.mesh, corner_local[0][a], corner_local[1][a], blocked);
+        if (pth.empty()) throw core::TopologyError("split: the neck's side curves cross; the disks' corners do not match");
+        for (std::size_t k = 1; k < pth.size(); ++k) cuts.insert(edge(pth[k - 1], pth[k]));
+        for (std::size_t k = 1; k + 1 < pth.size(); ++k) blocked[static_cast<std::size_t>(pth[k])] = 1;
+      }
+    is_corner.resize(N.mesh.number_of_vertices(), 0);
+    // Vertices the side curves added: appended to the layout.
+    std::vector<int> neck_vertex(N.layout_vertex);
+    for (std::size_t v = N.layout_vertex.size(); v < N.mesh.number_of_vertices(); ++v) {
+      const auto& q = N.mesh.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(v)));
+      neck_vertex.push_back(static_cast<int>(d.layout.points.size()));
+      d.layout.points.push_back({q.x(), q.y(), q.z()});
     }
     std::vector<int> face_region;
     const auto regs = regions(N.mesh, cuts, &face_region);
@@ -390,19 +492,24 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
       Patch P = quad_patch(regs[r], is_corner, "neck patch", static_cast<int>(r));
       bool disk = false;
       for (int& x : P.triangles) {
-        const int lt = N.layout_triangle[static_cast<std::size_t>(x)];
-        if (all_fill.count(lt)) {
+        // Fill faces are never cut (masked), so they keep their index; other faces may be new.
+        const int lt = x < static_cast<int>(N.layout_triangle.size()) ? N.layout_triangle[static_cast<std::size_t>(x)] : -1;
+        if (lt >= 0 && all_fill.count(lt)) {
           disk = true;
           x = -1 - lt;  // resolved with the disks below
         } else {
+          std::array<int, 3> tri{};
+          int j = 0;
+          for (const auto v : CGAL::vertices_around_face(N.mesh.halfedge(Mesh::Face_index(static_cast<Mesh::size_type>(x))), N.mesh))
+            tri[static_cast<std::size_t>(j++)] = neck_vertex[static_cast<std::size_t>(v)];
           x = static_cast<int>(d.layout.triangles.size());
-          d.layout.triangles.push_back(L.triangles[static_cast<std::size_t>(lt)]);
+          d.layout.triangles.push_back(tri);
           d.layout.filled.push_back(0);
         }
       }
-      for (int& v : P.corners) v = N.layout_vertex[static_cast<std::size_t>(v)];
+      for (int& v : P.corners) v = neck_vertex[static_cast<std::size_t>(v)];
       for (auto& sd : P.sides)
-        for (int& v : sd) v = N.layout_vertex[static_cast<std::size_t>(v)];
+        for (int& v : sd) v = neck_vertex[static_cast<std::size_t>(v)];
       const int id = static_cast<int>(d.layout.patches.size());
       if (disk) {
         const int lt = -1 - P.triangles[0];
