@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 
 #include "core/errors.h"
+#include "core/log.h"
 #include "split/isoline.h"
 #include "split/split_internal.h"
 
@@ -411,8 +412,10 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
     }
   }
   // The neck (connector): a cube whose bottom and top are the rings' disks and whose sides are
-  // the annulus between the two rims cut by the shortest paths joining their corners (Liu et al.
-  // §6: curves in the region between the two tori by the shortest distance on the surface).
+  // the annulus between the two rims cut by four curves joining their corners. Liu et al. (§6)
+  // take the shortest distance on the surface; the corners are paired in the rotation of least
+  // total shortest-path length, but the curves are level sets (neck_side_isolines), which leave
+  // the rims across them; shortest edge paths only if those fail.
   int neck_component = -1, neck_bottom = -1, neck_top = -1;
   if (connector) {
     std::vector<int> t = tris[static_cast<std::size_t>(neck_r[0])];
@@ -467,7 +470,9 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
     // could not pass a scaled Jacobian of 0.09 (docs/status.md, session 17).
     std::vector<char> neck_faces(N.mesh.number_of_faces(), 1);
     for (std::size_t x = 0; x < N.layout_triangle.size(); ++x) neck_faces[x] = all_fill.count(N.layout_triangle[x]) ? 0 : 1;
-    if (!neck_side_isolines(N, neck_faces, rim_local, corner_local, &cuts))
+    const bool level_sets = neck_side_isolines(N, neck_faces, rim_local, corner_local, &cuts);
+    if (!level_sets) core::log_warning("split: the neck's side level sets are not four curves from disk to disk; using shortest edge paths");
+    if (!level_sets)
       for (int a = 0; a < 4; ++a) {  // fallback: shortest paths, one after the other, each avoiding the ones before
         const std::vector<int> pth = shortest_path(N.mesh, corner_local[0][a], corner_local[1][a], blocked);
         if (pth.empty()) throw core::TopologyError("split: the neck's side curves cross; the disks' corners do not match");

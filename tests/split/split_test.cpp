@@ -383,6 +383,50 @@ TEST(Split, EightWithAConnectorIsTwoToriAndANeckCubeOnTheirDisks) {
   EXPECT_THROW(run_split(shared("cfwen_eight.off"), p), core::ConfigError);
 }
 
+TEST(Split, ConnectorSideCurvesLeaveTheDisksAcrossTheirRims) {
+  // The neck's four side curves leave each disk corner across the rim, not along it: each side
+  // patch's angle at a disk corner is at least 40° (the surface angle there is ~180°, 90° each
+  // when the curve is square to the rim). Shortest edge paths on the coarse eight left one corner
+  // at 21°, and that corner's element stayed at a scaled Jacobian of 0.09.
+  split::Params p;
+  p.genus2 = "connector";
+  const auto d = run_split(shared("cfwen_eight.off"), p);
+  const auto& pts = d.layout.points;
+  auto at = [&](int v) { return Eigen::Vector3d(pts[static_cast<std::size_t>(v)][0], pts[static_cast<std::size_t>(v)][1], pts[static_cast<std::size_t>(v)][2]); };
+  int checked = 0;
+  for (const auto& comp : d.components) {
+    if (comp.type != split::ComponentType::cube) continue;
+    std::set<int> disk_corners;
+    std::vector<int> sides;
+    for (int q : comp.patches) {
+      const auto& P = d.layout.patches[static_cast<std::size_t>(q)];
+      if (d.layout.filled[static_cast<std::size_t>(P.triangles.at(0))]) disk_corners.insert(P.corners.begin(), P.corners.end());
+      else sides.push_back(q);
+    }
+    ASSERT_EQ(disk_corners.size(), 8u);
+    ASSERT_EQ(sides.size(), 4u);
+    for (int q : sides) {
+      const auto& P = d.layout.patches[static_cast<std::size_t>(q)];
+      for (int c : P.corners) {
+        ASSERT_TRUE(disk_corners.count(c)) << "side patch " << q << " has a corner off the disks";
+        double angle = 0;
+        for (int t : P.triangles) {
+          const auto& tr = d.layout.triangles[static_cast<std::size_t>(t)];
+          for (int k = 0; k < 3; ++k) {
+            if (tr[static_cast<std::size_t>(k)] != c) continue;
+            const Eigen::Vector3d a = at(tr[static_cast<std::size_t>((k + 1) % 3)]) - at(c), b = at(tr[static_cast<std::size_t>((k + 2) % 3)]) - at(c);
+            angle += std::acos(std::clamp(a.dot(b) / (a.norm() * b.norm()), -1.0, 1.0));
+          }
+        }
+        EXPECT_GE(angle * 180 / M_PI, 40.0) << "side patch " << q << " at disk corner " << c;
+        EXPECT_LE(angle * 180 / M_PI, 140.0) << "side patch " << q << " at disk corner " << c;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 16);
+}
+
 TEST(Split, RodIsTwoToriWithDefaults) {
   // A CAD part of genus 2 (an eye and a small hole). Its sharp curves are not followed by the
   // genus-2 cuts yet (docs/status.md); the decomposition itself must hold.
