@@ -470,15 +470,15 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
     // could not pass a scaled Jacobian of 0.09 (docs/status.md, session 17).
     std::vector<char> neck_faces(N.mesh.number_of_faces(), 1);
     for (std::size_t x = 0; x < N.layout_triangle.size(); ++x) neck_faces[x] = all_fill.count(N.layout_triangle[x]) ? 0 : 1;
-    const bool level_sets = neck_side_isolines(N, neck_faces, rim_local, corner_local, &cuts);
-    if (!level_sets) core::log_warning("split: the neck's side level sets are not four curves from disk to disk; using shortest edge paths");
-    if (!level_sets)
-      for (int a = 0; a < 4; ++a) {  // fallback: shortest paths, one after the other, each avoiding the ones before
+    if (!neck_side_isolines(N, neck_faces, rim_local, corner_local, &cuts)) {
+      core::log_warning("split: the neck's side level sets are not four curves from disk to disk; using shortest edge paths");
+      for (int a = 0; a < 4; ++a) {  // one after the other, each avoiding the ones before
         const std::vector<int> pth = shortest_path(N.mesh, corner_local[0][a], corner_local[1][a], blocked);
         if (pth.empty()) throw core::TopologyError("split: the neck's side curves cross; the disks' corners do not match");
         for (std::size_t k = 1; k < pth.size(); ++k) cuts.insert(edge(pth[k - 1], pth[k]));
         for (std::size_t k = 1; k + 1 < pth.size(); ++k) blocked[static_cast<std::size_t>(pth[k])] = 1;
       }
+    }
     is_corner.resize(N.mesh.number_of_vertices(), 0);
     // Vertices the side curves added: appended to the layout.
     std::vector<int> neck_vertex(N.layout_vertex);
