@@ -173,8 +173,8 @@ void warn_if_flipped(const std::string& what, int flipped_surface_triangles, con
 
 // The surface and volume map of one torus (its layout triangles, fills included, are its closed
 // surface), logged under `what`.
-void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const std::string& what, polycube::TorusSurfaceMap& m,
-               volmap::VolumeMap& vm) {
+void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const std::string& what, const polycube::Params& params,
+               polycube::TorusSurfaceMap& m, volmap::VolumeMap& vm) {
   {
     core::LogSection s(what + "surface map");
     polycube::PatchMapParams pp;
@@ -196,7 +196,7 @@ void map_torus(pipeline::StageContext& ctx, const split::Decomposition& d, const
   }
   {
     core::LogSection s(what + "volume map");
-    vm = polycube::torus_volume_map(d, m, ctx.config.polycube);
+    vm = polycube::torus_volume_map(d, m, params);
   }
   warn_if_flipped(what, m.flipped_surface_triangles, vm);
 }
@@ -220,7 +220,7 @@ core::Json torus(pipeline::StageContext& ctx, const core::Json& j, const split::
   const polycube::Structure structure = checked_structure(d);
   polycube::TorusSurfaceMap m;
   volmap::VolumeMap vm;
-  map_torus(ctx, d, "", m, vm);
+  map_torus(ctx, d, "", ctx.config.polycube, m, vm);
   core::Json r = volmap::report_figures(vm);
   write_with_volume_map(ctx, j, "torus", polycube::to_json(m), vm, structure, r,
                         [&](const std::string& path, bool mapped) { polycube::write_torus_vtp(path, d, m, mapped); });
@@ -240,7 +240,11 @@ core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::D
   const polycube::Structure structure = checked_structure(d);
   std::vector<polycube::TorusSurfaceMap> ms(rings.size());
   std::vector<volmap::VolumeMap> vms(rings.size());
-  for (std::size_t i = 0; i < rings.size(); ++i) map_torus(ctx, rings[i].decomposition, "ring " + std::to_string(i) + ": ", ms[i], vms[i]);
+  std::optional<polycube::Ring> neck = polycube::connector(d);
+  polycube::Params params = ctx.config.polycube;
+  if (neck) params.smooth_below_ratio = params.connector_smooth_below_ratio;
+  for (std::size_t i = 0; i < rings.size(); ++i)
+    map_torus(ctx, rings[i].decomposition, "ring " + std::to_string(i) + ": ", params, ms[i], vms[i]);
   core::Json list = core::Json::array(), figures = core::Json::array();
   std::vector<const volmap::VolumeMap*> maps;
   std::vector<std::array<double, 3>> offsets;
@@ -264,7 +268,6 @@ core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::D
   r["rings"] = figures;
   // A connector cube between the tori (split.genus2: connector): mapped onto the unit cube.
   core::Json connectors = core::Json::array();
-  std::optional<polycube::Ring> neck = polycube::connector(d);
   volmap::VolumeMap neck_vm;
   if (neck) {
     polycube::ConnectorMap nm;
@@ -276,7 +279,7 @@ core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::D
     }
     {
       core::LogSection s("connector: volume map");
-      neck_vm = polycube::connector_volume_map(*neck, nm, ctx.config.polycube);
+      neck_vm = polycube::connector_volume_map(*neck, nm, params);
     }
     warn_if_flipped("connector: ", nm.flipped_surface_triangles, neck_vm);
     connectors.push_back(polycube::to_json(*neck, nm, neck_vm));

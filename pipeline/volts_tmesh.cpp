@@ -28,6 +28,9 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     core::LogSection s("optimization of the worst Jacobian");
     tmesh::OptimizeParams op;
     op.sweeps = ctx.config.tmesh.optimize_sweeps;
+    op.joint_rounds = ctx.config.tmesh.joint_rounds;
+    op.joint_evaluations = ctx.config.tmesh.joint_evaluations;
+    op.joint_sharpness = ctx.config.tmesh.joint_sharpness;
     // Optimize the figure extract reports: its Gauss points (0 = degree + 1) and the corners.
     op.gauss_points = ctx.config.extract.gauss_points > 0 ? ctx.config.extract.gauss_points : ctx.config.tmesh.degree + 1;
     opt = tmesh::optimize(ts, op);

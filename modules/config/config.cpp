@@ -212,6 +212,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("tet_max_volume_rel", c.polycube.tet_max_volume_rel, 1e-6, 1.0);
     s.get("smooth_sweeps", c.polycube.smooth_sweeps, 0, 10000);
     s.get("smooth_below_ratio", c.polycube.smooth_below_ratio, 0.0, 1.0);
+    s.get("connector_smooth_below_ratio", c.polycube.connector_smooth_below_ratio, 0.0, 1.0);
     s.get("sharp_lines", c.polycube.sharp_lines);
     s.get("profile", c.polycube.profile, {"auto", "square"});
     s.finish();
@@ -222,6 +223,9 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("degree", c.tmesh.degree, 1, 5);
     s.get("pillow_layers", c.tmesh.pillow_layers, 0, 4);
     s.get("optimize_sweeps", c.tmesh.optimize_sweeps, 0, 100);
+    s.get("joint_rounds", c.tmesh.joint_rounds, 0, 100);
+    s.get("joint_evaluations", c.tmesh.joint_evaluations, 1, 100000);
+    s.get("joint_sharpness", c.tmesh.joint_sharpness, 1e-3, 1000.0);
     s.finish();
   }
   {
@@ -379,13 +383,17 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "tet_max_volume_rel" << YAML::Value << c.polycube.tet_max_volume_rel;
   e << YAML::Key << "smooth_sweeps" << YAML::Value << c.polycube.smooth_sweeps;
   e << YAML::Key << "smooth_below_ratio" << YAML::Value << c.polycube.smooth_below_ratio;
+  e << YAML::Key << "connector_smooth_below_ratio" << YAML::Value << c.polycube.connector_smooth_below_ratio;
   e << YAML::Key << "sharp_lines" << YAML::Value << c.polycube.sharp_lines;
   e << YAML::Key << "profile" << YAML::Value << c.polycube.profile << YAML::EndMap;
   e << YAML::Key << "tmesh" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "level" << YAML::Value << c.tmesh.level;
   e << YAML::Key << "degree" << YAML::Value << c.tmesh.degree;
   e << YAML::Key << "pillow_layers" << YAML::Value << c.tmesh.pillow_layers;
-  e << YAML::Key << "optimize_sweeps" << YAML::Value << c.tmesh.optimize_sweeps << YAML::EndMap;
+  e << YAML::Key << "optimize_sweeps" << YAML::Value << c.tmesh.optimize_sweeps;
+  e << YAML::Key << "joint_rounds" << YAML::Value << c.tmesh.joint_rounds;
+  e << YAML::Key << "joint_evaluations" << YAML::Value << c.tmesh.joint_evaluations;
+  e << YAML::Key << "joint_sharpness" << YAML::Value << c.tmesh.joint_sharpness << YAML::EndMap;
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;

@@ -32,6 +32,11 @@ struct Params {
   /// many sweeps of per-vertex smoothing (volmap::Params::smooth_sweeps); 0 = none [0, 10000].
   int smooth_sweeps = 300;
   double smooth_below_ratio = 1e-3;  ///< min volume ratio (smallest tet volume / mean, dimensionless) [0, 1]
+  /// smooth_below_ratio for the maps of a connector split (split.genus2: connector): the rings
+  /// whose disk is a whole cube face start at min volume ratios 0.006–0.008, and unsmoothed the
+  /// eight kept 118 elements not certified valid after 9 minutes of tmesh (docs/status.md,
+  /// session 17); smoothing costs the other models time (torus 0.86 -> 1.36 s), so it is per kind [0, 1].
+  double connector_smooth_below_ratio = 0.9;
   /// Tori: sharp curves inside cube faces laid on straight lines and made C0 block faces by tmesh
   /// (PatchMapParams::sharp_lines). Off by default: on the washer it lowered the valid elements
   /// (docs/status.md, session 11).

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "config/config.h"
+#include "tmesh/optimize.h"
 #include "core/errors.h"
 
 using namespace volts;
@@ -34,6 +35,25 @@ TEST(Config, DefaultYamlEqualsBuiltInDefaults) {
   EXPECT_DOUBLE_EQ(file.input.bulge, builtin.input.bulge);
 }
 
+// The optimizer's joint rounds and the connector maps' smoothing bound: documented defaults equal
+// the library's own (tmesh::OptimizeParams), and the keys survive the effective-config round trip.
+TEST(Config, JointOptimizationAndConnectorSmoothingKeys) {
+  const config::Config file = config::load_config(std::string(VOLTS_SOURCE_DIR) + "/configs/default.yaml");
+  const tmesh::OptimizeParams op;
+  EXPECT_EQ(file.tmesh.joint_rounds, op.joint_rounds);
+  EXPECT_EQ(file.tmesh.joint_evaluations, op.joint_evaluations);
+  EXPECT_DOUBLE_EQ(file.tmesh.joint_sharpness, op.joint_sharpness);
+  EXPECT_DOUBLE_EQ(file.polycube.connector_smooth_below_ratio, polycube::Params{}.connector_smooth_below_ratio);
+  const auto c = config::parse_config(
+      "tmesh: {joint_rounds: 30, joint_evaluations: 250, joint_sharpness: 150}\npolycube: {connector_smooth_below_ratio: 0.5}\n", "t");
+  const auto d = config::parse_config(config::to_yaml(c), "emitted");
+  EXPECT_EQ(d.tmesh.joint_rounds, 30);
+  EXPECT_EQ(d.tmesh.joint_evaluations, 250);
+  EXPECT_DOUBLE_EQ(d.tmesh.joint_sharpness, 150);
+  EXPECT_DOUBLE_EQ(d.polycube.connector_smooth_below_ratio, 0.5);
+  EXPECT_NE(config_error("tmesh: {joint_rounds: 101}\n").find("tmesh.joint_rounds: 101 is out of range [0, 100]"), std::string::npos);
+}
+
 TEST(Config, ValuesAreRead) {
   const auto c = config::parse_config("input: {generate: torus, resolution: 32}\ntmesh: {level: 5}\nclassify: {sharp_angle_deg: 45.5}\n", "t");
   EXPECT_EQ(c.input.generate, "torus");
@@ -53,7 +73,7 @@ TEST(Config, EmittedYamlParsesBackToTheSameConfig) {
 
 TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("test.yaml: unknown key 'tmesh.levle'"), std::string::npos);
-  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, level"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, joint_evaluations, joint_rounds, joint_sharpness, level"), std::string::npos);
   EXPECT_NE(config_error("clasify: {}\n").find("unknown key 'clasify'"), std::string::npos);
   EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
 }
