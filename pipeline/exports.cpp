@@ -1,6 +1,7 @@
 #include "exports.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "core/log.h"
@@ -41,6 +42,16 @@ core::Json write_exports(const StageContext& ctx, const extract::Result& r) {
             std::to_string(r.certified_valid) + " certified valid, scaled Jacobian [" + std::to_string(r.min_scaled) + ", " +
             std::to_string(r.max_scaled) + "], hausdorff_rel " + std::to_string(r.hausdorff_rel) + ", volume_rel_error " +
             std::to_string(r.volume_rel_error));
+  if (!r.worst.empty()) {
+    const auto& w = r.worst.front();
+    char at[160];
+    std::snprintf(at, sizeof at, "(%.4g, %.4g, %.4g)", w.sample.position[0], w.sample.position[1], w.sample.position[2]);
+    core::log("worst element " + std::to_string(w.sample.element) + " (block " + std::to_string(w.block) + ", " + w.block_kind + ", cube " +
+              std::to_string(w.component) + "): " + std::to_string(w.sample.scaled_jacobian) + " at a " +
+              (w.sample.at_corner ? "corner" : "Gauss point") + " " + at + " on " + std::to_string(w.sample.boundary_faces) +
+              " boundary faces" + (w.sample.surface_bound < 1 ? ", bounded there by the surface's tangents to " + std::to_string(w.sample.surface_bound) : std::string()) +
+              " (report: extract.worst_elements)");
+  }
   if (wanted("vtu")) core::log("open in ParaView: " + out);
   core::Json fig = extract::report_figures(r);
   if (wanted("vtu")) fig["output"] = out;

@@ -265,6 +265,7 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
   Result r;
   r.degree = ts[0].degree;
   std::vector<quality::BoundaryFace> boundary;
+  std::vector<int> block;  // per element
   {
     core::LogSection s("Bézier extraction");
     for (const auto& t : ts) {
@@ -289,6 +290,7 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
             if (t.boundary[2 * axis + side] && idx[axis] == (side ? n[axis] - 1 : 0)) boundary.push_back({offset + e, axis, side});
       }
       r.hexes.insert(r.hexes.end(), hexes.begin(), hexes.end());
+      block.insert(block.end(), hexes.size(), static_cast<int>(&t - ts.data()));
     }
   }
   {
@@ -304,6 +306,10 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
   {
     core::LogSection s("scaled Jacobian at corners and Gauss points");
     quality::ScaledJacobian sj = quality::scaled_jacobian(r.hexes, gp);
+    for (const quality::WorstSample& w : quality::worst_samples(r.hexes, sj, boundary, gp, 10)) {
+      const tmesh::TMesh& t = ts[static_cast<std::size_t>(block[static_cast<std::size_t>(w.element)])];
+      r.worst.push_back({w, block[static_cast<std::size_t>(w.element)], t.component, t.kind});
+    }
     r.min_scaled_jacobian = std::move(sj.min_per_element);
     r.max_scaled_jacobian = std::move(sj.max_per_element);
     r.min_scaled = sj.min, r.max_scaled = sj.max;
@@ -345,7 +351,15 @@ double frac_above(const std::vector<double>& v, double x) {
 }  // namespace
 
 core::Json report_figures(const Result& r) {
-  return core::Json{{"bezier_elements", r.hexes.size()},   {"degree", r.degree},
+  core::Json worst = core::Json::array();
+  for (const Result::Worst& x : r.worst) {
+    const quality::WorstSample& w = x.sample;
+    worst.push_back({{"element", w.element}, {"block", x.block}, {"component", x.component}, {"block_kind", x.block_kind},
+                     {"scaled_jacobian", w.scaled_jacobian}, {"sample", w.at_corner ? "corner" : "gauss"},
+                     {"uvw", {w.uvw[0], w.uvw[1], w.uvw[2]}}, {"position", {w.position[0], w.position[1], w.position[2]}},
+                     {"boundary_faces", w.boundary_faces}, {"surface_bound", w.surface_bound}});
+  }
+  return core::Json{{"worst_elements", worst}, {"bezier_elements", r.hexes.size()},   {"degree", r.degree},
                     {"min_scaled_jacobian", r.min_scaled}, {"max_scaled_jacobian", r.max_scaled},
                     {"hausdorff_rel", r.hausdorff_rel},    {"volume_rel_error", r.volume_rel_error},
                     {"spline_volume", r.spline_volume},    {"surface_volume", r.surface_volume},

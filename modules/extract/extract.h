@@ -19,6 +19,7 @@
 #include "bezier/certify.h"
 #include "core/stage_file.h"
 #include "surface/surface.h"
+#include "quality/quality.h"
 #include "tmesh/tmesh.h"
 
 namespace volts::extract {
@@ -72,6 +73,14 @@ struct Result {
   double spline_volume = 0;     ///< ∫ det J over all elements
   double surface_volume = 0;    ///< volume enclosed by the input surface
   double volume_rel_error = 0;  ///< |spline_volume - surface_volume| / surface_volume
+  /// The 10 worst elements, where their worst samples lie (quality::worst_samples) and the
+  /// T-mesh block (index in the input, its cube and kind) each belongs to.
+  struct Worst {
+    quality::WorstSample sample;
+    int block = 0, component = 0;
+    std::string block_kind;
+  };
+  std::vector<Worst> worst;
 };
 
 /// Distance under which two points of a model in `box` count as equal: rel × its diagonal, plus
@@ -100,7 +109,8 @@ Result extract(const std::vector<tmesh::TMesh>& t, const surface::Mesh& surface,
 /// volume_rel_error (+ spline_volume, surface_volume), certified_valid, certified_invalid,
 /// undecided, certified_min_detj_rel, global_functions, partition_of_unity_error,
 /// frac_scaled_jacobian_above_0_5 (elements whose sampled min scaled Jacobian is > 0.5),
-/// volume_frac_scaled_jacobian_above_0_5 (the volume where it is, quality.h).
+/// volume_frac_scaled_jacobian_above_0_5 (the volume where it is, quality.h), worst_elements
+/// (Result::worst).
 core::Json report_figures(const Result& r);
 
 /// bezier.vtu: VTK_BEZIER_HEXAHEDRON cells with per-cell min/max scaled Jacobian, boundary distance,

@@ -144,4 +144,48 @@ Volume volume(const std::vector<bezier::BezierHex>& hexes, const Mesh& surface, 
   return v;
 }
 
+std::vector<WorstSample> worst_samples(const std::vector<bezier::BezierHex>& hexes, const ScaledJacobian& sj, const std::vector<BoundaryFace>& faces,
+                                       int gauss_points, int count) {
+  if (gauss_points < 1) throw core::InvalidInputError("worst_samples: gauss_points must be >= 1");
+  if (sj.min_per_element.size() != hexes.size()) throw core::InvalidInputError("worst_samples: one scaled Jacobian per element is needed");
+  const std::vector<double>& worst = sj.min_per_element;
+  std::vector<int> order(hexes.size());
+  for (std::size_t e = 0; e < order.size(); ++e) order[e] = static_cast<int>(e);
+  const std::size_t k = std::min(order.size(), static_cast<std::size_t>(std::max(count, 0)));
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
+                    [&](int a, int b) { return worst[static_cast<std::size_t>(a)] < worst[static_cast<std::size_t>(b)] || (worst[static_cast<std::size_t>(a)] == worst[static_cast<std::size_t>(b)] && a < b); });
+  const std::vector<double> g = bezier::gauss_legendre_points(gauss_points);
+  std::vector<WorstSample> out;
+  for (std::size_t i = 0; i < k; ++i) {
+    const int e = order[i];
+    const bezier::BezierHex& hex = hexes[static_cast<std::size_t>(e)];
+    const std::vector<Eigen::Matrix3d> J = bezier::jacobian_samples(hex, gauss_points);
+    // The first sample (corners first) within roundoff of the minimum: equal samples of an
+    // affine element name its first corner, not whichever roundoff favours.
+    std::size_t at = 0;
+    for (std::size_t j = 1; j < J.size(); ++j)
+      if (bezier::scaled_jacobian(J[j]) < bezier::scaled_jacobian(J[at]) - 1e-12) at = j;
+    WorstSample w;
+    w.element = e;
+    w.scaled_jacobian = worst[static_cast<std::size_t>(e)];
+    w.at_corner = at < 8;
+    if (w.at_corner) w.uvw = Eigen::Vector3d(static_cast<double>(at & 1), static_cast<double>((at >> 1) & 1), static_cast<double>((at >> 2) & 1));
+    else {
+      const std::size_t n = g.size(), q = at - 8;
+      w.uvw = Eigen::Vector3d(g[q % n], g[(q / n) % n], g[q / (n * n)]);
+    }
+    w.position = bezier::evaluate(hex, w.uvw);
+    int axis = -1;
+    for (const BoundaryFace& f : faces)
+      if (f.element == e && w.uvw[f.axis] == static_cast<double>(f.side)) ++w.boundary_faces, axis = f.axis;
+    if (w.at_corner && w.boundary_faces == 1) {
+      const Eigen::Vector3d a = J[at].col((axis + 1) % 3), b = J[at].col((axis + 2) % 3);
+      const double l = a.norm() * b.norm();
+      w.surface_bound = l > 0 ? a.cross(b).norm() / l : 0.0;
+    }
+    out.push_back(w);
+  }
+  return out;
+}
+
 }  // namespace volts::quality

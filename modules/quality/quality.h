@@ -5,6 +5,8 @@
 
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "bezier/bezier_hex.h"
 #include "surface/surface.h"
 
@@ -53,6 +55,29 @@ struct BoundaryDeviation {
 /// samples < 2 or a face naming no element, axis or side.
 BoundaryDeviation boundary_deviation(const std::vector<bezier::BezierHex>& hexes, const std::vector<BoundaryFace>& faces,
                                      const surface::Mesh& surface, int samples);
+
+/// Where an element's sampled scaled Jacobian is lowest, and what limits it there.
+struct WorstSample {
+  int element = 0;
+  double scaled_jacobian = 0;          ///< the element's sampled minimum (its worst sample: within 1e-12)
+  bool at_corner = false;              ///< at one of the 8 corners (else at a Gauss point)
+  Eigen::Vector3d uvw{0, 0, 0};        ///< the sample in the element's parameters
+  Eigen::Vector3d position{0, 0, 0};   ///< and in physical space
+  int boundary_faces = 0;              ///< boundary faces of the element through the sample (0 inside)
+  /// At a corner on exactly one boundary face: the sine of the angle between the two tangent
+  /// derivatives there. The third column can at best be perpendicular to them, so the scaled
+  /// Jacobian there cannot exceed this whatever the interior control points: the surface's
+  /// parameterization is the limit when the two are close. 1 elsewhere (no such bound).
+  double surface_bound = 1;
+};
+
+/// The `count` elements with the lowest sampled scaled Jacobian (`sj`: scaled_jacobian of
+/// `hexes` with the same gauss_points), worst first (ties by element), with their worst samples;
+/// `faces` are the boundary faces as for boundary_deviation. For reports: which elements to look
+/// at in ParaView and whether the surface or the interior limits them. Throws
+/// core::InvalidInputError for gauss_points < 1 or `sj` not of these hexes.
+std::vector<WorstSample> worst_samples(const std::vector<bezier::BezierHex>& hexes, const ScaledJacobian& sj, const std::vector<BoundaryFace>& faces,
+                                       int gauss_points, int count);
 
 struct Volume {
   double elements = 0;   ///< ∫ det J over all elements

@@ -233,6 +233,21 @@ TEST(Pipeline, TorusRunsEndToEndAsARingOfFourCubes) {
   EXPECT_EQ(x["certified_valid"], 4 * per_cube);
   EXPECT_EQ(x["certified_invalid"], 0);
   EXPECT_GT(x["min_scaled_jacobian"].get<double>(), 0.2);
+  // The worst elements for debugging: ten, worst first, the first at the reported minimum, each
+  // in one of the four cubes and a block of the tmesh stage file.
+  const core::Json& w = x["worst_elements"];
+  ASSERT_EQ(w.size(), 10u);
+  EXPECT_DOUBLE_EQ(w[0]["scaled_jacobian"].get<double>(), x["min_scaled_jacobian"].get<double>());
+  const core::Json tm = core::read_stage_file((d / "w" / "tmesh.stage.json").string(), "volts-tmesh", 2);
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (i > 0) {
+      EXPECT_GE(w[i]["scaled_jacobian"].get<double>(), w[i - 1]["scaled_jacobian"].get<double>());
+    }
+    EXPECT_LT(w[i]["element"].get<int>(), 4 * per_cube);
+    EXPECT_LT(w[i]["block"].get<std::size_t>(), tm["tmeshes"].size());
+    EXPECT_EQ(w[i]["component"], tm["tmeshes"][w[i]["block"].get<std::size_t>()]["component"]);
+    EXPECT_LE(w[i]["scaled_jacobian"].get<double>(), w[i]["surface_bound"].get<double>() + 1e-12);
+  }
 }
 
 TEST(Pipeline, WasherRunsEndToEndAsAPlusProfileRing) {

@@ -42,6 +42,77 @@ std::vector<BoundaryFace> all_faces(int element) {
   return f;
 }
 
+// Degree-2 affine hex x = origin + A (u, v, w): J = A everywhere.
+bezier::BezierHex affine_hex(const Eigen::Matrix3d& A, const Eigen::Vector3d& origin) {
+  bezier::BezierHex h;
+  h.degree = {2, 2, 2};
+  for (int n = 0; n < h.num_points(); ++n) {
+    const auto [i, j, k] = h.ijk(n);
+    h.points.push_back(origin + A * Eigen::Vector3d(i / 2.0, j / 2.0, k / 2.0));
+  }
+  return h;
+}
+
+// u and v at angle theta, w perpendicular to both: scaled Jacobian sin(theta) everywhere.
+Eigen::Matrix3d sheared(double theta) {
+  Eigen::Matrix3d A;
+  A.col(0) = Eigen::Vector3d(1, 0, 0);
+  A.col(1) = Eigen::Vector3d(std::cos(theta), std::sin(theta), 0);
+  A.col(2) = Eigen::Vector3d(0, 0, 0.5);
+  return A;
+}
+
+// worst_samples over a family of sheared hexes: the lowest `count` in order, at their first
+// sample (all equal: corner 0), and the surface bound of a boundary face spanned by the sheared
+// pair equals the scaled Jacobian (that face's tangents are the limit), 1 for a face spanned by
+// a perpendicular pair.
+TEST(Quality, WorstSamplesAreTheLowestElementsAndNameTheSurfaceLimit) {
+  const std::vector<double> theta{1.2, 0.5, 1.5707963267948966, 0.9, 0.3};
+  std::vector<bezier::BezierHex> hexes;
+  for (std::size_t e = 0; e < theta.size(); ++e) hexes.push_back(affine_hex(sheared(theta[e]), Eigen::Vector3d(3.0 * e, 0, 0)));
+  // Element 4 has its w = 0 face (tangents u, v) on the surface, element 1 its u = 0 face (v, w).
+  const std::vector<BoundaryFace> faces{{4, 2, 0}, {1, 0, 0}};
+  const ScaledJacobian sj = scaled_jacobian(hexes, 3);
+  const std::vector<WorstSample> w = worst_samples(hexes, sj, faces, 3, 3);
+  ASSERT_EQ(w.size(), 3u);
+  const int expected[3] = {4, 1, 3};  // theta 0.3, 0.5, 0.9
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(w[i].element, expected[i]);
+    EXPECT_NEAR(w[i].scaled_jacobian, std::sin(theta[static_cast<std::size_t>(expected[i])]), 1e-12);
+    EXPECT_DOUBLE_EQ(w[i].scaled_jacobian, sj.min_per_element[static_cast<std::size_t>(expected[i])]);
+    EXPECT_TRUE(w[i].at_corner);
+    EXPECT_EQ(w[i].uvw, Eigen::Vector3d::Zero());
+    EXPECT_NEAR((w[i].position - Eigen::Vector3d(3.0 * expected[i], 0, 0)).norm(), 0.0, 1e-12);
+  }
+  EXPECT_EQ(w[0].boundary_faces, 1);
+  EXPECT_NEAR(w[0].surface_bound, std::sin(0.3), 1e-12);
+  EXPECT_EQ(w[1].boundary_faces, 1);
+  EXPECT_NEAR(w[1].surface_bound, 1.0, 1e-12);
+  EXPECT_EQ(w[2].boundary_faces, 0);
+  EXPECT_EQ(w[2].surface_bound, 1.0);
+  EXPECT_EQ(worst_samples(hexes, sj, faces, 3, 99).size(), hexes.size());
+  EXPECT_THROW(worst_samples(hexes, scaled_jacobian({hexes[0]}, 3), faces, 3, 3), core::InvalidInputError);
+}
+
+// A hex whose worst point is inside: one corner control point of a cubic box pulled inward
+// lowers the Jacobian near that corner; the worst sample is that corner, not a Gauss point, and
+// it is the only element reported with count 1.
+TEST(Quality, WorstSampleOfAPulledCornerIsThatCorner) {
+  bezier::BezierHex h = box_hex(kLo, kHi);
+  const int corner = h.index(2, 2, 2);
+  h.points[static_cast<std::size_t>(corner)] -= Eigen::Vector3d(0.3, 0.2, 0.1);
+  const std::vector<bezier::BezierHex> hexes{box_hex(kLo, kHi), h};
+  const ScaledJacobian sj = scaled_jacobian(hexes, 3);
+  const std::vector<WorstSample> w = worst_samples(hexes, sj, all_faces(1), 3, 1);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].element, 1);
+  EXPECT_LT(w[0].scaled_jacobian, 0.99);
+  EXPECT_TRUE(w[0].at_corner);
+  EXPECT_EQ(w[0].uvw, Eigen::Vector3d(1, 1, 1));
+  EXPECT_EQ(w[0].boundary_faces, 3);  // a corner of the box lies on three of its faces
+  EXPECT_EQ(w[0].surface_bound, 1.0);   // no single surface face there
+}
+
 TEST(Quality, BoxHexHasScaledJacobianOneEverywhere) {
   const auto sj = scaled_jacobian({box_hex(kLo, kHi), box_hex({0, 0, 0}, {3, 1, 0.2})}, 4);
   ASSERT_EQ(sj.min_per_element.size(), 2u);
