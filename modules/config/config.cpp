@@ -202,7 +202,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("cross_section_point", c.split.cross_section_point, 1);
     s.get("torus_cubes", c.split.torus_cubes, 4, 16);
     s.get("hole", c.split.hole, {"auto", "torus", "difference"});
-    s.get("genus2", c.split.genus2, {"disk", "connector"});
+    s.get("genus2", c.split.genus2, {"auto", "disk", "connector"});
     s.get("connector_cut", c.split.connector_cut, 0.05, 0.95);
     s.finish();
   }
@@ -226,6 +226,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("joint_rounds", c.tmesh.joint_rounds, 0, 100);
     s.get("joint_evaluations", c.tmesh.joint_evaluations, 1, 100000);
     s.get("joint_sharpness", c.tmesh.joint_sharpness, 1e-3, 1000.0);
+    s.get("joint_window", c.tmesh.joint_window, 0.0, 1.0);
     s.finish();
   }
   {
@@ -393,7 +394,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "optimize_sweeps" << YAML::Value << c.tmesh.optimize_sweeps;
   e << YAML::Key << "joint_rounds" << YAML::Value << c.tmesh.joint_rounds;
   e << YAML::Key << "joint_evaluations" << YAML::Value << c.tmesh.joint_evaluations;
-  e << YAML::Key << "joint_sharpness" << YAML::Value << c.tmesh.joint_sharpness << YAML::EndMap;
+  e << YAML::Key << "joint_sharpness" << YAML::Value << c.tmesh.joint_sharpness;
+  e << YAML::Key << "joint_window" << YAML::Value << c.tmesh.joint_window << YAML::EndMap;
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;

@@ -268,6 +268,7 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
 
   Decomposition d;
   d.genus = 2;
+  d.genus2 = prm.genus2;
   d.critical_min = static_cast<int>(cp.minima.size());
   d.critical_max = static_cast<int>(cp.maxima.size());
   d.critical_saddle = cp.saddle_count();

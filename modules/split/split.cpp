@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/errors.h"
+#include "core/log.h"
 #include "split/split_internal.h"
 #include "surface/mesh_json.h"
 #include "viz/viz.h"
@@ -126,7 +127,19 @@ Decomposition split(const surface::Mesh& mesh, const classify::Classification& c
     Decomposition d = detail::split_torus(mesh, detail::sharp_edges(c), params);
     return d;
   }
-  if (c.genus == 2) return detail::split_two_tori(mesh, params);
+  if (c.genus == 2) {
+    if (params.genus2 != "auto") return detail::split_two_tori(mesh, params);
+    Params p = params;
+    p.genus2 = "connector";
+    try {
+      return detail::split_two_tori(mesh, p);
+    } catch (const core::TopologyError& e) {
+      core::log_warning(std::string("split: no connector cube between the two tori (") + e.what() +
+                        "); they meet on the waist's disk instead, which is not a conforming interface (split.genus2: disk)");
+    }
+    p.genus2 = "disk";
+    return detail::split_two_tori(mesh, p);
+  }
   std::ostringstream s;
   s << "split: genus " << c.genus << " (" << c.patches << " patches, " << c.curves.size() << " curves, " << c.corners.size()
     << " corners) is not implemented yet: only genus 0 (a cube) and genus 1 (a torus, or a cube minus a through hole) are; "
@@ -283,12 +296,14 @@ core::Json report_figures(const Decomposition& d) {
   core::Json comps = core::Json::array();
   for (const auto& k : d.components)
     comps.push_back({{"type", to_string(k.type)}, {"faces", k.faces.size()}, {"patches", k.patches.size()}});
-  return core::Json{{"genus", d.genus},
+  core::Json j{{"genus", d.genus},
                     {"critical_points", {{"min", d.critical_min}, {"max", d.critical_max}, {"saddle", d.critical_saddle}}},
                     {"components", comps},
                     {"tori", d.tori.size()},
                     {"quad_patches", d.quad_patches},
                     {"filled_triangles", std::count(d.layout.filled.begin(), d.layout.filled.end(), 1)}};
+  if (!d.genus2.empty()) j["genus2"] = d.genus2;
+  return j;
 }
 
 void write_vtp(const std::string& path, const Decomposition& d) {

@@ -41,10 +41,12 @@ struct Params {
   std::vector<std::array<double, 3>> cross_section_point;
   int torus_cubes = 4;          ///< cube components per torus, along the ring [4, 16]
   std::string hole = "auto";    ///< a through hole becomes: "auto" (§4.3: difference if there are sharp corners), "torus" or "difference"
-  /// A genus-2 surface becomes: "disk" (two tori meeting on the disk that fills their waist) or
-  /// "connector" (two tori and a cube between them, the neck or shank, whose ends are whole faces
-  /// of the tori; Liu et al. §6, the rod and the eight)
-  std::string genus2 = "disk";
+  /// A genus-2 surface becomes: "disk" (two tori meeting on the disk that fills their waist: not
+  /// a conforming interface, the eight's hausdorff_rel is 0.09), "connector" (two tori and a cube
+  /// between them, the neck or shank, whose ends are whole faces of the tori; Liu et al. §6, the
+  /// rod and the eight: conforming) or "auto" (connector; disk, with a warning, if split cannot
+  /// cut the neck — the rod at connector_cut 0.5)
+  std::string genus2 = "auto";
   /// connector: its ends lie this fraction of the way from the waist to the saddle at each hole
   /// (level sets of the first harmonic field) [0.05, 0.95]
   double connector_cut = 0.5;
@@ -113,6 +115,7 @@ struct Decomposition {
   Layout layout;
   int quad_patches = 0;  ///< patches that are disks bounded by four sides (all of them when split succeeds)
   int genus = 0;
+  std::string genus2;  ///< genus 2: what split built, "connector" or "disk" (report only, not in the stage file)
   int critical_min = 0, critical_max = 0, critical_saddle = 0;  ///< of the first harmonic field (0 if none)
   // For ParaView: per layout vertex, the harmonic fields (empty if not computed), and the cuts.
   std::vector<double> field, ring_field, tube_field;

@@ -560,12 +560,19 @@ double scaled_jacobian_gradient(const Eigen::Matrix3d& J, Eigen::Matrix3d& G) {
 void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, core::ThreadPool& pool,
                  const OptimizeParams& params, OptimizeResult& r) {
   const bezier::CertifyParams cp;
+  double window = 0;  // > 0: only elements within it of the worst figure (OptimizeParams::joint_window)
   for (int round = 0; round < params.joint_rounds; ++round) {
     // Variables: interior nodes of the elements below the target (or not certified valid).
     std::vector<int> var_of;  // per node id: variable index or -1
     std::vector<int> ids;
+    double select = params.target;
+    if (window > 0) {
+      double lowest = std::numeric_limits<double>::infinity();
+      for (const Quality& x : q) lowest = std::min(lowest, x.scaled);
+      select = std::min(select, lowest + window);
+    }
     for (std::size_t e = 0; e < s.size(); ++e) {
-      if (q[e].valid && q[e].scaled >= params.target) continue;
+      if (q[e].valid && q[e].scaled >= select) continue;
       for (const int local : s.points_of(e)) {
         const int id = s.id_of(s.block_of(e), local);
         if (static_cast<std::size_t>(id) >= var_of.size()) var_of.resize(static_cast<std::size_t>(id) + 1, -1);
@@ -774,7 +781,14 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
               std::to_string(after) + ", not certified valid " + std::to_string(invalid_before) + " -> " +
               std::to_string(invalid) + ", " + std::to_string(reverted) + " nodes put back" +
               (accepted ? "" : " (step refused)"));
-    if (!accepted) return;
+    if (!accepted) {
+      // Refused (the step cost elements more than it gained them): go on with the elements near
+      // the worst only, then with half that window, while every element is certified valid.
+      window = window > 0 ? 0.5 * window : params.joint_window;
+      if (invalid_before > 0 || !(window >= params.joint_window / 8) || !(window > 0)) return;
+      core::log("joint rounds go on with the elements within " + std::to_string(window) + " of the worst");
+      continue;
+    }
     ++r.joint_rounds;
     const bool progress = (invalid_before > 0 && invalid_before - invalid >= std::max(1.0, params.min_fixed_rel * invalid_before)) ||
                           after >= before + params.min_gain;
@@ -794,10 +808,11 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   if (params.trilinear_sweeps < 0 || params.trilinear_sweeps > 100 || !(params.trilinear_target >= -1 && params.trilinear_target <= 1))
     throw core::ConfigError("tmesh optimization: trilinear_sweeps must be in [0, 100] and trilinear_target in [-1, 1]");
   if (params.joint_rounds < 0 || params.joint_rounds > 100 || params.joint_evaluations < 1 || params.joint_evaluations > 100000 ||
-      !(params.joint_sharpness > 0 && params.joint_sharpness <= 1000) || params.joint_dense_points < 2 || params.joint_dense_points > 32)
+      !(params.joint_sharpness > 0 && params.joint_sharpness <= 1000) || params.joint_dense_points < 2 || params.joint_dense_points > 32 ||
+      !(params.joint_window >= 0 && params.joint_window <= 1))
     throw core::ConfigError(
-        "tmesh optimization: joint_rounds must be in [0, 100], joint_evaluations in [1, 100000], joint_sharpness in (0, 1000] and "
-        "joint_dense_points in [2, 32]");
+        "tmesh optimization: joint_rounds must be in [0, 100], joint_evaluations in [1, 100000], joint_sharpness in (0, 1000], "
+        "joint_dense_points in [2, 32] and joint_window in [0, 1]");
   OptimizeResult r;
   Spline s(blocks);
   const bezier::CertifyParams cp;

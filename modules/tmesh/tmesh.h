@@ -26,12 +26,14 @@ struct Params {
   /// Bound on sweeps of per-node worst-Jacobian optimization (§5.2); it stops earlier when no element
   /// is below 0.5, a sweep moves nothing, or two sweeps in a row stall (OptimizeParams); 0 = none [0, 100].
   int optimize_sweeps = 40;
-  /// Joint L-BFGS rounds before the per-node sweeps, their bound on evaluations each and the
-  /// sharpness of their soft minimum (OptimizeParams::joint_rounds / joint_evaluations /
-  /// joint_sharpness) [0, 100] / [1, 100000] / (0, 1000] per unit of scaled Jacobian.
-  int joint_rounds = 10;
+  /// Joint L-BFGS rounds before the per-node sweeps, their bound on evaluations each, the
+  /// sharpness of their soft minimum and the window they narrow to after a refused step
+  /// (OptimizeParams::joint_rounds / joint_evaluations / joint_sharpness / joint_window)
+  /// [0, 100] / [1, 100000] / (0, 1000] per unit of scaled Jacobian / [0, 1] scaled Jacobian.
+  int joint_rounds = 30;
   int joint_evaluations = 100;
   double joint_sharpness = 40;
+  double joint_window = 0.1;
 };
 
 using Vec3 = std::array<double, 3>;

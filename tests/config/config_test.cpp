@@ -43,6 +43,7 @@ TEST(Config, JointOptimizationAndConnectorSmoothingKeys) {
   EXPECT_EQ(file.tmesh.joint_rounds, op.joint_rounds);
   EXPECT_EQ(file.tmesh.joint_evaluations, op.joint_evaluations);
   EXPECT_DOUBLE_EQ(file.tmesh.joint_sharpness, op.joint_sharpness);
+  EXPECT_DOUBLE_EQ(file.tmesh.joint_window, op.joint_window);
   EXPECT_DOUBLE_EQ(file.polycube.connector_smooth_below_ratio, polycube::Params{}.connector_smooth_below_ratio);
   const auto c = config::parse_config(
       "tmesh: {joint_rounds: 30, joint_evaluations: 250, joint_sharpness: 150}\npolycube: {connector_smooth_below_ratio: 0.5}\n", "t");
@@ -73,7 +74,7 @@ TEST(Config, EmittedYamlParsesBackToTheSameConfig) {
 
 TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("test.yaml: unknown key 'tmesh.levle'"), std::string::npos);
-  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, joint_evaluations, joint_rounds, joint_sharpness, level"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
   EXPECT_NE(config_error("clasify: {}\n").find("unknown key 'clasify'"), std::string::npos);
   EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
 }

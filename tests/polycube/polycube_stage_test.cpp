@@ -61,7 +61,7 @@ core::Json expect_structure(const std::filesystem::path& dir, int cubes, int tor
 
 TEST(PolycubeStage, TwoToriWriteOneRingEachWithTheirOwnIds) {
   const auto dir = test::fresh_dir("polycube_stage", "eight");
-  test::write_text(dir / "c.yaml", "input: {file: " + std::string(VOLTS_SHARED_MODELS) + "/cfwen_eight.off}\n");
+  test::write_text(dir / "c.yaml", "input: {file: " + std::string(VOLTS_SHARED_MODELS) + "/cfwen_eight.off}\nsplit: {genus2: disk}\n");
   const auto r = test::run(test::bin("volts") + " run " + (dir / "c.yaml").string() + " --workdir " + dir.string() + " --to polycube");
   ASSERT_EQ(r.code, 0) << r.output;
   const core::Json j = read_json(dir / "polycube.stage.json");

@@ -36,7 +36,9 @@ const Mapped& mapped(const std::string& name) {
   if (it != cache.end()) return it->second;
   Mapped m;
   const auto mesh = surface::read_surface(std::string(VOLTS_SHARED_MODELS) + "/" + name);
-  m.d = split::split(mesh, classify::classify(mesh, {}), {});
+  split::Params sp;
+  sp.genus2 = "disk";  // the tori meeting on their waist's disk (connector_test.cpp: the connector)
+  m.d = split::split(mesh, classify::classify(mesh, {}), sp);
   m.rings = polycube::rings(m.d);
   for (const auto& r : m.rings) m.surface.push_back(polycube::map_torus_surface(r.decomposition, {}));
   return cache.emplace(name, std::move(m)).first->second;

@@ -306,7 +306,10 @@ TEST(Split, HoleForcedToTorusWithCornersIsAClearError) {
 }
 
 TEST(Split, EightIsTwoToriOfFourCubesMeetingOnAFilledDisk) {
-  const auto d = run_split(shared("cfwen_eight.off"));
+  split::Params p;
+  p.genus2 = "disk";
+  const auto d = run_split(shared("cfwen_eight.off"), p);
+  EXPECT_EQ(d.genus2, "disk");
   check_decomposition(d);
   EXPECT_EQ(d.genus, 2);
   ASSERT_EQ(d.tori.size(), 2u);
@@ -321,6 +324,24 @@ TEST(Split, EightIsTwoToriOfFourCubesMeetingOnAFilledDisk) {
       EXPECT_NE(d.components[c.a].torus, d.components[c.b].torus);
     }
   EXPECT_EQ(meets, 1);
+}
+
+// split.genus2 auto (the default): a connector where split can cut the neck (the eight: the same
+// decomposition as genus2 connector), else the disk, with a warning (the rod at connector_cut
+// 0.5: a cross section crosses a longitudinal line more than once).
+TEST(Split, Genus2AutoIsAConnectorWhereTheNeckCanBeCutElseTheDisk) {
+  split::Params c;
+  c.genus2 = "connector";
+  const auto eight = run_split(shared("cfwen_eight.off"));
+  EXPECT_EQ(eight.genus2, "connector");
+  EXPECT_EQ(split::to_json(eight).dump(), split::to_json(run_split(shared("cfwen_eight.off"), c)).dump());
+  EXPECT_THROW(run_split(shared("loopycuts_rod_rem.obj"), c), core::TopologyError);
+  const auto rod = run_split(shared("loopycuts_rod_rem.obj"));
+  EXPECT_EQ(rod.genus2, "disk");
+  EXPECT_EQ(rod.tori.size(), 2u);
+  split::Params d;
+  d.genus2 = "disk";
+  EXPECT_EQ(split::to_json(rod).dump(), split::to_json(run_split(shared("loopycuts_rod_rem.obj"), d)).dump());
 }
 
 TEST(Split, EightWithAConnectorIsTwoToriAndANeckCubeOnTheirDisks) {
