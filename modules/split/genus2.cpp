@@ -190,7 +190,7 @@ bool neck_side_isolines(Submesh& N, const std::vector<char>& neck_faces, const s
 Decomposition split_two_tori(const Mesh& input, const Params& prm) {
   if (!(prm.connector_cut >= 0.05 && prm.connector_cut <= 0.95)) throw core::ConfigError("split.connector_cut must be in [0.05, 0.95]");
   if (prm.genus2 != "disk" && prm.genus2 != "connector")
-    throw core::ConfigError("split.genus2 must be 'disk' or 'connector', not '" + prm.genus2 + "'");
+    throw core::ConfigError("split.genus2 must be 'auto', 'disk' or 'connector', not '" + prm.genus2 + "'");
   const bool connector = prm.genus2 == "connector";
   Mesh mesh = input;
   CriticalPoints cp;
