@@ -192,6 +192,17 @@ void expect_surface_kept_and_shared_together(const std::vector<tmesh::TMesh>& ts
   }
 }
 
+// The joint-round tests' optimizer on the twisted blocks: the target out of reach, so every round
+// and sweep runs to its own stopping rule; one sweep, no trilinear pass.
+tmesh::OptimizeParams twist_family_params() {
+  tmesh::OptimizeParams op;
+  op.gauss_points = 2;
+  op.target = 0.95;
+  op.sweeps = 1;
+  op.trilinear_sweeps = 0;
+  return op;
+}
+
 // Joint rounds (L-BFGS on a soft minimum of all elements' sampled scaled Jacobians): over a family
 // of twists, from mild to folded, they never lower the worst figure or the certified count, keep
 // surface points, and end at least as well as the per-node sweeps given the same bound — the
@@ -199,11 +210,7 @@ void expect_surface_kept_and_shared_together(const std::vector<tmesh::TMesh>& ts
 TEST(Optimize, JointRoundsRaiseTheWorstJacobianAtLeastAsFarAsPerNodeSweeps) {
   for (const double twist : {0.8, 1.2, 1.8, 2.6}) {
     for (int pillow = 0; pillow <= 1; ++pillow) {
-      tmesh::OptimizeParams op;
-      op.gauss_points = 2;
-      op.target = 0.95;  // out of reach: every round and sweep runs to its own stopping rule
-      op.sweeps = 1;
-      op.trilinear_sweeps = 0;
+      tmesh::OptimizeParams op = twist_family_params();
       std::vector<tmesh::TMesh> joint = blocks(pillow, twist), nodes = blocks(pillow, twist);
       const std::vector<tmesh::TMesh> start = joint;
       const tmesh::OptimizeResult rj = tmesh::optimize(joint, op);
@@ -229,11 +236,7 @@ TEST(Optimize, NarrowedJointRoundsGoOnWhereFullRoundsAreRefused) {
   int gained = 0;
   for (const double twist : {0.8, 1.2, 1.8, 2.6}) {
     for (int pillow = 0; pillow <= 1; ++pillow) {
-      tmesh::OptimizeParams op;
-      op.gauss_points = 2;
-      op.target = 0.95;
-      op.sweeps = 1;
-      op.trilinear_sweeps = 0;
+      tmesh::OptimizeParams op = twist_family_params();
       op.joint_rounds = 30;
       op.max_nodes_per_sweep = 0;
       std::vector<tmesh::TMesh> narrowed = blocks(pillow, twist), stopped = blocks(pillow, twist);
