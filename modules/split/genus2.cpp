@@ -10,6 +10,8 @@
 #include <queue>
 #include <set>
 
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+
 #include <Eigen/Dense>
 
 #include "core/errors.h"
@@ -249,20 +251,41 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
   // each ring fills its own rim and the neck uses both fills reversed.
   std::array<Submesh, 2> torus;
   std::array<std::vector<int>, 2> fill, rim;
-  for (int i = 0; i < 2; ++i) {
-    const int r = rings_r[static_cast<std::size_t>(i)];
-    rim[i] = rim_of(r);
-    std::vector<int> t = tris[static_cast<std::size_t>(r)];
-    std::vector<char> rev(t.size(), 0);
-    if (i == 1 && !connector) {
-      fill[1] = fill[0];
-      t.insert(t.end(), fill[0].begin(), fill[0].end());
-      rev.resize(t.size(), 1);
-      torus[1] = submesh(L, t, rev);
-    } else {
-      torus[i] = submesh(L, t, rev);
-      fill[i] = fill_openings(torus[i], L, true);  // no chords: flat triangles once the disk is pressed onto a face
+  const std::array<std::size_t, 3> layout_size{L.points.size(), L.triangles.size(), L.filled.size()};
+  auto make_rings = [&](FillMethod method) {
+    L.points.resize(layout_size[0]), L.triangles.resize(layout_size[1]), L.filled.resize(layout_size[2]);  // fills only append
+    for (int i = 0; i < 2; ++i) {
+      const int r = rings_r[static_cast<std::size_t>(i)];
+      rim[i] = rim_of(r);
+      std::vector<int> t = tris[static_cast<std::size_t>(r)];
+      std::vector<char> rev(t.size(), 0);
+      if (i == 1 && !connector) {
+        fill[1] = fill[0];
+        t.insert(t.end(), fill[0].begin(), fill[0].end());
+        rev.resize(t.size(), 1);
+        torus[1] = submesh(L, t, rev);
+      } else {
+        torus[i] = submesh(L, t, rev);
+        fill[i] = fill_openings(torus[i], L, true, method);  // no chords: flat triangles once the disk is pressed onto a face
+      }
     }
+  };
+  // The neck's closed surface: its region and both fills reversed.
+  auto neck_surface = [&] {
+    std::vector<int> t = tris[static_cast<std::size_t>(neck_r[0])];
+    std::vector<char> rev(t.size(), 0);
+    for (int i = 0; i < 2; ++i) t.insert(t.end(), fill[i].begin(), fill[i].end());
+    rev.resize(t.size(), 1);
+    return submesh(L, t, rev);
+  };
+  make_rings(FillMethod::hole_filling);
+  // A fill that clears its ring can still cross the neck on the other side (the rod's shank near
+  // its eyes): then both rims are filled in their planes.
+  if (connector && CGAL::Polygon_mesh_processing::does_self_intersect(neck_surface().mesh)) {
+    core::log_verbose("split: a fill crosses the neck; both rims filled in their planes");
+    make_rings(FillMethod::planar);
+    if (CGAL::Polygon_mesh_processing::does_self_intersect(neck_surface().mesh))
+      throw core::TopologyError("split: the disks closing the neck cross its surface; try another split.connector_cut");
   }
   const int n_input = static_cast<int>(mesh.number_of_vertices());
 
@@ -419,11 +442,7 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
   // the rims across them; shortest edge paths only if those fail.
   int neck_component = -1, neck_bottom = -1, neck_top = -1;
   if (connector) {
-    std::vector<int> t = tris[static_cast<std::size_t>(neck_r[0])];
-    std::vector<char> rev(t.size(), 0);
-    for (int i = 0; i < 2; ++i) t.insert(t.end(), fill[i].begin(), fill[i].end());
-    rev.resize(t.size(), 1);
-    Submesh N = submesh(L, t, rev);
+    Submesh N = neck_surface();
     std::map<int, int> local;
     for (std::size_t v = 0; v < N.layout_vertex.size(); ++v) local[N.layout_vertex[v]] = static_cast<int>(v);
     const int nn = static_cast<int>(N.mesh.number_of_vertices());

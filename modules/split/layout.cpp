@@ -1,14 +1,23 @@
 #include "split/layout.h"
 
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Polygon_2.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <Eigen/Dense>
 
 #include <algorithm>
-#include <set>
-#include <iterator>
 #include <cmath>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <set>
 #include <stdexcept>
 
 #include "core/errors.h"
+#include "core/log.h"
 #include "split/isoline.h"
 
 namespace volts::split::detail {
@@ -232,7 +241,158 @@ void map_ids(Decomposition& sub, const Submesh& s) {
       for (int& v : f.corners) v = s.layout_vertex[v];
 }
 
-std::vector<int> fill_openings(Submesh& s, Layout& L, bool no_chords) {
+namespace {
+using K2 = surface::Kernel;
+
+
+// A rim at most this far off its least-squares plane, relative to its diameter, counts as planar.
+constexpr double kMaxOffPlane = 0.1;
+
+}  // namespace
+
+// Hand-written around CGAL's CDT: CGAL fills holes in 3D (triangulate_hole) but not in a loop's
+// plane with a given interior spacing and no points on the rim.
+bool fill_opening_in_plane(Mesh& m, HI border, double max_off_plane) {
+  std::vector<Mesh::Vertex_index> rim;
+  for (auto h : CGAL::halfedges_around_face(border, m)) rim.push_back(m.source(h));
+  const std::size_t n = rim.size();
+  if (n < 3) return false;
+  std::vector<Eigen::Vector3d> x(n);
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& q = m.point(rim[i]);
+    x[i] = {q.x(), q.y(), q.z()}, centre += x[i] / static_cast<double>(n);
+  }
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& y : x) cov += (y - centre) * (y - centre).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  const Eigen::Vector3d u = eig.eigenvectors().col(2), v = eig.eigenvectors().col(1), normal = eig.eigenvectors().col(0);
+  CGAL::Polygon_2<K2> poly;
+  std::vector<double> offset(n);
+  double diameter = 0, perimeter = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    poly.push_back(K2::Point_2((x[i] - centre).dot(u), (x[i] - centre).dot(v)));
+    offset[i] = (x[i] - centre).dot(normal);
+    perimeter += (x[(i + 1) % n] - x[i]).norm();
+    for (std::size_t j = 0; j < i; ++j) diameter = std::max(diameter, (x[i] - x[j]).norm());
+  }
+  double off = 0;
+  for (const double o : offset) off = std::max(off, std::abs(o));
+  if (!(diameter > 0) || off > max_off_plane * diameter || !poly.is_simple()) return false;
+  const bool ccw = poly.orientation() == CGAL::COUNTERCLOCKWISE;
+
+  using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K2>;
+  using Fb = CGAL::Constrained_triangulation_face_base_2<K2>;
+  using Cdt = CGAL::Constrained_Delaunay_triangulation_2<K2, CGAL::Triangulation_data_structure_2<Vb, Fb>, CGAL::Exact_predicates_tag>;
+  Cdt cdt;
+  std::vector<Cdt::Vertex_handle> vh(n);
+  for (std::size_t i = 0; i < n; ++i) vh[i] = cdt.insert(poly[static_cast<int>(i)]), vh[i]->info() = static_cast<int>(i);
+  for (std::size_t i = 0; i < n; ++i) cdt.insert_constraint(vh[i], vh[(i + 1) % n]);
+  if (cdt.number_of_vertices() != n) return false;  // rim points merged or constraints split
+  const double h = perimeter / static_cast<double>(n);
+  const auto box = poly.bbox();
+  std::vector<Cdt::Vertex_handle> inner;
+  for (int row = 0; box.ymin() + row * h * std::sqrt(0.75) < box.ymax(); ++row)
+    for (double px = box.xmin() + (row % 2 ? 0.5 * h : 0.0); px < box.xmax(); px += h) {
+      const K2::Point_2 p(px, box.ymin() + row * h * std::sqrt(0.75));
+      if (poly.bounded_side(p) != CGAL::ON_BOUNDED_SIDE) continue;
+      double d = std::numeric_limits<double>::infinity();
+      for (auto e = poly.edges_begin(); e != poly.edges_end(); ++e) d = std::min(d, std::sqrt(CGAL::to_double(CGAL::squared_distance(p, *e))));
+      if (d < 0.5 * h) continue;
+      const auto w = cdt.insert(p);
+      w->info() = static_cast<int>(n + inner.size());
+      inner.push_back(w);
+    }
+  if (cdt.number_of_vertices() != n + inner.size()) return false;
+  // Faces inside the polygon: reached from the infinite face across the rim once (a topological
+  // test: nearly collinear rim points leave slivers outside whose centroids a point test misjudges).
+  std::vector<std::array<int, 3>> tris;
+  std::map<Cdt::Face_handle, int> depth;
+  std::vector<Cdt::Face_handle> stack{cdt.infinite_face()};
+  depth[cdt.infinite_face()] = 0;
+  std::vector<Cdt::Face_handle> next_level;
+  for (int level = 0; level < 2 && !stack.empty(); ++level) {
+    while (!stack.empty()) {
+      const Cdt::Face_handle f = stack.back();
+      stack.pop_back();
+      for (int e = 0; e < 3; ++e) {
+        const Cdt::Face_handle g = f->neighbor(e);
+        if (depth.count(g)) continue;
+        if (cdt.is_constrained(Cdt::Edge(f, e))) {
+          next_level.push_back(g);
+        } else {
+          depth[g] = level;
+          stack.push_back(g);
+        }
+      }
+    }
+    for (const auto& g : next_level)
+      if (!depth.count(g)) depth[g] = level + 1, stack.push_back(g);
+    next_level.clear();
+  }
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    const auto it = depth.find(f);
+    if (it == depth.end() || it->second != 1) continue;
+    std::array<int, 3> t{f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()};
+    if (!ccw) std::swap(t[1], t[2]);
+    tris.push_back(t);
+  }
+  // Heights of the interior points: harmonic in the rim's offsets.
+  const std::size_t total = n + inner.size();
+  std::vector<std::set<int>> nb(total);
+  for (const auto& t : tris)
+    for (int a = 0; a < 3; ++a) nb[static_cast<std::size_t>(t[a])].insert(t[(a + 1) % 3]), nb[static_cast<std::size_t>(t[(a + 1) % 3])].insert(t[a]);
+  std::vector<double> w(total, 0.0);
+  for (std::size_t i = 0; i < n; ++i) w[i] = offset[i];
+  for (int sweep = 0; sweep < 2000; ++sweep) {
+    double change = 0;
+    for (std::size_t i = n; i < total; ++i) {
+      if (nb[i].empty()) return false;
+      double sum = 0;
+      for (const int j : nb[i]) sum += w[static_cast<std::size_t>(j)];
+      const double next = sum / static_cast<double>(nb[i].size());
+      change = std::max(change, std::abs(next - w[i])), w[i] = next;
+    }
+    if (change < 1e-12 * diameter) break;
+  }
+  std::vector<Mesh::Vertex_index> vertex(rim);
+  for (std::size_t k = 0; k < inner.size(); ++k) {
+    const auto& p = inner[k]->point();
+    const Eigen::Vector3d y = centre + p.x() * u + p.y() * v + w[n + k] * normal;
+    vertex.push_back(m.add_vertex(surface::Point(y[0], y[1], y[2])));
+  }
+  // Faces added inward from the rim, each along the current front: one that touches the filled
+  // part elsewhere than its front edges would pinch the front (Surface_mesh refuses such faces).
+  // A triangulated disk can always be built this way (it is shellable).
+  std::map<std::pair<int, int>, int> on_front;  // edge -> faces on it so far (the rim's walls count)
+  for (std::size_t i = 0; i < n; ++i) on_front[std::minmax(static_cast<int>(i), static_cast<int>((i + 1) % n))] = 1;
+  std::vector<char> touched(total, 0), added(tris.size(), 0);
+  std::fill(touched.begin(), touched.begin() + static_cast<std::ptrdiff_t>(n), 1);
+  std::size_t count = 0;
+  for (bool progress = true; progress && count < tris.size();) {
+    progress = false;
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      if (added[t]) continue;
+      std::array<char, 3> front{};  // per vertex: an endpoint of one of t's front edges
+      bool any = false;
+      for (int a = 0; a < 3; ++a) {
+        const auto it = on_front.find(std::minmax(tris[t][a], tris[t][(a + 1) % 3]));
+        if (it != on_front.end() && it->second == 1) front[a] = front[(a + 1) % 3] = 1, any = true;
+      }
+      bool pinch = false;
+      for (int a = 0; a < 3; ++a) pinch = pinch || (touched[static_cast<std::size_t>(tris[t][a])] && !front[a]);
+      if (!any || pinch) continue;
+      const auto f = m.add_face(vertex[static_cast<std::size_t>(tris[t][0])], vertex[static_cast<std::size_t>(tris[t][1])], vertex[static_cast<std::size_t>(tris[t][2])]);
+      if (f == Mesh::null_face()) throw core::TopologyError("split: the planar fill of an opening is not a manifold disk");
+      added[t] = 1, ++count, progress = true;
+      for (int a = 0; a < 3; ++a) touched[static_cast<std::size_t>(tris[t][a])] = 1, ++on_front[std::minmax(tris[t][a], tris[t][(a + 1) % 3])];
+    }
+  }
+  if (count != tris.size()) throw core::TopologyError("split: the planar fill of an opening is not connected");
+  return true;
+}
+
+std::vector<int> fill_openings(Submesh& s, Layout& L, bool no_chords, FillMethod method) {
   namespace PMP = CGAL::Polygon_mesh_processing;
   std::vector<HI> borders;
   std::set<std::size_t> seen;
@@ -245,30 +405,50 @@ std::vector<int> fill_openings(Submesh& s, Layout& L, bool no_chords) {
   std::set<Mesh::Vertex_index> rim;
   for (auto h : borders)
     for (auto g : CGAL::halfedges_around_face(h, s.mesh)) rim.insert(s.mesh.target(g));
-  for (auto h : borders) {
-    std::vector<Mesh::Face_index> faces;
-    std::vector<Mesh::Vertex_index> verts;
-    PMP::triangulate_and_refine_hole(s.mesh, h, std::back_inserter(faces), std::back_inserter(verts));
-  }
-  // Chords: edges between fill faces on both sides with both ends on a rim. Split each at its
-  // midpoint and join the new vertex to the two opposite corners.
-  for (bool changed = no_chords; changed;) {
-    changed = false;
-    for (auto h : s.mesh.halfedges()) {
-      const auto g = s.mesh.opposite(h);
-      const auto f = s.mesh.face(h), fo = s.mesh.face(g);
-      if (f == Mesh::null_face() || fo == Mesh::null_face() || static_cast<std::size_t>(f) < old_faces || static_cast<std::size_t>(fo) < old_faces) continue;
-      const auto a = s.mesh.source(h), b = s.mesh.target(h);
-      if (!rim.count(a) || !rim.count(b)) continue;
-      const auto pa = s.mesh.point(a), pb = s.mesh.point(b);
-      const HI hnew = CGAL::Euler::split_edge(h, s.mesh);  // a -> v (hnew), v -> b (h)
-      s.mesh.point(s.mesh.target(hnew)) = CGAL::midpoint(pa, pb);
-      CGAL::Euler::split_face(hnew, s.mesh.next(s.mesh.next(hnew)), s.mesh);
-      CGAL::Euler::split_face(s.mesh.opposite(h), s.mesh.next(s.mesh.next(s.mesh.opposite(h))), s.mesh);
-      changed = true;
-      break;
+  // CGAL's hole filling first; where that fill crosses the surface (a cut near a flat face or a
+  // flare: the rod's shank at its eyes), every opening is filled again by its planar fill.
+  const Mesh before = s.mesh;
+  auto fill_with = [&](bool planar) {
+    for (auto h : borders) {
+      if (planar) {
+        if (!fill_opening_in_plane(s.mesh, h, kMaxOffPlane))
+          throw core::TopologyError("split: the fill of an opening crosses the surface, and the opening is not a planar simple loop (" +
+                                    std::to_string(rim.size()) + " rim vertices)");
+        continue;
+      }
+      std::vector<Mesh::Face_index> faces;
+      std::vector<Mesh::Vertex_index> verts;
+      PMP::triangulate_and_refine_hole(s.mesh, h, std::back_inserter(faces), std::back_inserter(verts));
     }
+    // Chords: edges between fill faces on both sides with both ends on a rim. Split each at its
+    // midpoint and join the new vertex to the two opposite corners.
+    for (bool changed = no_chords; changed;) {
+      changed = false;
+      for (auto h : s.mesh.halfedges()) {
+        const auto g = s.mesh.opposite(h);
+        const auto f = s.mesh.face(h), fo = s.mesh.face(g);
+        if (f == Mesh::null_face() || fo == Mesh::null_face() || static_cast<std::size_t>(f) < old_faces || static_cast<std::size_t>(fo) < old_faces) continue;
+        const auto a = s.mesh.source(h), b = s.mesh.target(h);
+        if (!rim.count(a) || !rim.count(b)) continue;
+        const auto pa = s.mesh.point(a), pb = s.mesh.point(b);
+        const HI hnew = CGAL::Euler::split_edge(h, s.mesh);  // a -> v (hnew), v -> b (h)
+        s.mesh.point(s.mesh.target(hnew)) = CGAL::midpoint(pa, pb);
+        CGAL::Euler::split_face(hnew, s.mesh.next(s.mesh.next(hnew)), s.mesh);
+        CGAL::Euler::split_face(s.mesh.opposite(h), s.mesh.next(s.mesh.next(s.mesh.opposite(h))), s.mesh);
+        changed = true;
+        break;
+      }
+    }
+  };
+  bool planar = method == FillMethod::planar;
+  fill_with(planar);
+  if (!planar && !borders.empty() && PMP::does_self_intersect(s.mesh)) {
+    s.mesh = before;
+    fill_with(planar = true);
+    core::log_verbose("split: CGAL's fill of an opening crossed the surface; filled in the opening's plane instead");
   }
+  if (planar && PMP::does_self_intersect(s.mesh))
+    throw core::TopologyError("split: the planar fill of an opening crosses the surface (a cut along a flat face?)");
   if (s.mesh.has_garbage()) throw std::logic_error("split: hole filling removed elements");
   // New vertices and faces come after the old ones.
   for (std::size_t v = old_vertices; v < s.mesh.number_of_vertices(); ++v) {

@@ -70,12 +70,25 @@ Submesh submesh(const Layout& layout, const std::vector<int>& triangles, const s
 /// Maps the patch and component ids of a decomposition of a submesh to layout ids.
 void map_ids(Decomposition& sub, const Submesh& s);
 
+/// Fills the opening whose border halfedge is `border` in its plane: the rim projected onto its
+/// least-squares plane must be a simple polygon at most `max_off_plane` of its diameter off that
+/// plane. Its constrained Delaunay triangulation with interior points on a triangular lattice at
+/// the rim's mean edge length, each at least half of that from the rim; no point is added on the
+/// rim, so the fill conforms to the rim's edges. Interior points are lifted off the plane by a
+/// harmonic interpolation of the rim's offsets. New vertices and faces are appended to the mesh.
+/// Returns false, leaving the mesh as it was, if the rim is not such a loop.
+bool fill_opening_in_plane(surface::Mesh& mesh, surface::Mesh::Halfedge_index border, double max_off_plane);
+
 /// Fills every opening (border loop) of the submesh with triangles (CGAL's hole filling with
-/// refinement), appends the new vertices and triangles to the layout (flagged filled) and to the
+/// refinement; where that fill crosses the surface, every opening by fill_opening_in_plane
+/// instead, and core::TopologyError if that is not possible or crosses it too), appends the new vertices and triangles to the layout (flagged filled) and to the
 /// submesh's maps. Returns the new layout triangles. With `no_chords`, every fill edge joining two
 /// vertices of an opening's rim that is not a rim edge is split at its midpoint (the fill is then
 /// a disk that maps one-to-one onto a square with its rim on the sides, Floater 2003: a chord
 /// between two points of one side would be flat).
-std::vector<int> fill_openings(Submesh& s, Layout& layout, bool no_chords = false);
+/// How fill_openings fills: CGAL's hole filling (falling back to the planar fill where it
+/// crosses the surface), or every opening in its plane.
+enum class FillMethod { hole_filling, planar };
+std::vector<int> fill_openings(Submesh& s, Layout& layout, bool no_chords = false, FillMethod method = FillMethod::hole_filling);
 
 }  // namespace volts::split::detail
