@@ -2,6 +2,10 @@
 // bounded by four sides, the patches cover the surface once (hole fills twice: once for the cube,
 // once for the virtual component), and every component is bounded like a cube — six faces whose
 // corners meet as a cube's do.
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -342,6 +346,66 @@ TEST(Split, Genus2AutoIsAConnectorWhereTheNeckCanBeCutElseTheDisk) {
   split::Params d;
   d.genus2 = "disk";
   EXPECT_EQ(split::to_json(rod).dump(), split::to_json(run_split(shared("loopycuts_rod_rem.obj"), d)).dump());
+}
+
+// The closed surface of each torus (its cubes' patches: ring and disk) and of the neck cube (its
+// six patches, both disks among them), as meshes.
+std::vector<surface::Mesh> primitive_surfaces(const split::Decomposition& d) {
+  std::map<int, std::set<int>> of;  // torus id (or -1 - component for a cube) -> layout triangles
+  for (std::size_t c = 0; c < d.components.size(); ++c) {
+    const int key = d.components[c].torus >= 0 ? d.components[c].torus : -1 - static_cast<int>(c);
+    for (int q : d.components[c].patches)
+      for (int t : d.layout.patches[static_cast<std::size_t>(q)].triangles) of[key].insert(t);
+  }
+  std::vector<surface::Mesh> out;
+  for (const auto& [key, tris] : of) {
+    std::vector<surface::Point> points;
+    std::map<int, std::size_t> local;
+    std::vector<std::vector<std::size_t>> polygons;
+    for (int t : tris) {
+      std::vector<std::size_t> poly;
+      for (int v : d.layout.triangles[static_cast<std::size_t>(t)]) {
+        auto [it, fresh] = local.emplace(v, points.size());
+        if (fresh) {
+          const auto& x = d.layout.points[static_cast<std::size_t>(v)];
+          points.emplace_back(x[0], x[1], x[2]);
+        }
+        poly.push_back(it->second);
+      }
+      polygons.push_back(poly);
+    }
+    CGAL::Polygon_mesh_processing::orient_polygon_soup(points, polygons);
+    surface::Mesh m;
+    CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, polygons, m);
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+TEST(Split, RodCutNearItsEyesIsTwoToriAndAConnectorWhoseSurfacesDoNotCrossThemselves) {
+  // At 0.85 of the way to the saddles CGAL's hole filling crosses ring 1 and the neck (triangles
+  // bridging the rims' notches); the fills are then made in the rims' planes.
+  split::Params p;
+  p.connector_cut = 0.85;
+  const auto rod = run_split(shared("loopycuts_rod_rem.obj"), p);
+  EXPECT_EQ(rod.genus2, "connector");
+  check_decomposition(rod);
+  ASSERT_EQ(rod.components.size(), 9u);
+  const auto surfaces = primitive_surfaces(rod);
+  ASSERT_EQ(surfaces.size(), 3u);  // two tori and the neck
+  for (const auto& m : surfaces) EXPECT_FALSE(CGAL::Polygon_mesh_processing::does_self_intersect(m));
+  // The eight's fills (CGAL's, kept) clear its surface too.
+  const auto eight = run_split(shared("cfwen_eight.off"));
+  for (const auto& m : primitive_surfaces(eight)) EXPECT_FALSE(CGAL::Polygon_mesh_processing::does_self_intersect(m));
+  // A cut along the shoulder's flat face (0.8): its fill lies in that face's plane; split says so.
+  p.genus2 = "connector";
+  p.connector_cut = 0.8;
+  try {
+    run_split(shared("loopycuts_rod_rem.obj"), p);
+    ADD_FAILURE() << "the cut at 0.8 should not split";
+  } catch (const core::TopologyError& e) {
+    EXPECT_NE(std::string(e.what()).find("crosses the surface"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Split, EightWithAConnectorIsTwoToriAndANeckCubeOnTheirDisks) {
