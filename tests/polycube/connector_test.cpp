@@ -156,6 +156,26 @@ TEST(Connector, NeckVolumeMapHasNoFlippedTets) {
   EXPECT_NEAR(volume, 1.0, 1e-9);  // the tets fill the unit cube
 }
 
+// The rod cut near its eyes (split.connector_cut 0.85): CGAL's fills crossed ring 1 and the neck
+// there, so TetGen refused the neck; with the planar fills its volume map has no flipped tet, with
+// the maps smoothed as the pipeline smooths a connector split's.
+TEST(Connector, RodCutNearItsEyesMapsItsNeckWithoutFlippedTets) {
+  const auto mesh = surface::read_surface(std::string(VOLTS_SHARED_MODELS) + "/loopycuts_rod_rem.obj");
+  split::Params sp;
+  sp.genus2 = "connector";
+  sp.connector_cut = 0.85;
+  const split::Decomposition d = split::split(mesh, classify::classify(mesh, {}), sp);
+  const auto rings = polycube::rings(d);
+  const polycube::Ring neck = polycube::connector(d).value();
+  polycube::Params pp;
+  pp.smooth_below_ratio = pp.connector_smooth_below_ratio;
+  const polycube::ConnectorMap map = polycube::map_connector(neck, rings[0], {});
+  const volmap::VolumeMap vm = polycube::connector_volume_map(neck, map, pp);
+  EXPECT_EQ(vm.flipped_tets, 0);
+  EXPECT_GT(vm.min_volume_ratio, 0);
+  EXPECT_EQ(vm.surface_vertices, static_cast<int>(neck.layout_vertex.size()));
+}
+
 TEST(Connector, StageFileCornersAreCheckedAndNameTheFile) {
   const Eight& e = eight();
   const volmap::VolumeMap vm = polycube::connector_volume_map(e.neck, e.map, {});
