@@ -203,29 +203,35 @@ tmesh::OptimizeParams twist_family_params() {
   return op;
 }
 
+// The twisted blocks the joint-round tests run over, from mild to folded, with and without a
+// pillow layer: f(twist, pillow).
+template <class F>
+void for_each_twist(F f) {
+  for (const double twist : {0.8, 1.2, 1.8, 2.6})
+    for (int pillow = 0; pillow <= 1; ++pillow) f(twist, pillow);
+}
+
 // Joint rounds (L-BFGS on a soft minimum of all elements' sampled scaled Jacobians): over a family
 // of twists, from mild to folded, they never lower the worst figure or the certified count, keep
 // surface points, and end at least as well as the per-node sweeps given the same bound — the
 // plateau of equally bad elements that a per-node search cannot raise is what they are for.
 TEST(Optimize, JointRoundsRaiseTheWorstJacobianAtLeastAsFarAsPerNodeSweeps) {
-  for (const double twist : {0.8, 1.2, 1.8, 2.6}) {
-    for (int pillow = 0; pillow <= 1; ++pillow) {
-      tmesh::OptimizeParams op = twist_family_params();
-      std::vector<tmesh::TMesh> joint = blocks(pillow, twist), nodes = blocks(pillow, twist);
-      const std::vector<tmesh::TMesh> start = joint;
-      const tmesh::OptimizeResult rj = tmesh::optimize(joint, op);
-      op.joint_rounds = 0;
-      const tmesh::OptimizeResult rn = tmesh::optimize(nodes, op);
-      std::printf("twist %.1f pillow %d: worst %.4f (%d not valid) -> joint %.4f (%d, %d rounds), per node %.4f (%d)\n", twist, pillow,
-                  rj.min_before, rj.invalid_before, rj.min_after, rj.invalid_after, rj.joint_rounds, rn.min_after, rn.invalid_after);
-      EXPECT_GE(rj.joint_rounds, 1);
-      EXPECT_GT(rj.min_after, rj.min_before + 0.01);
-      EXPECT_EQ(rj.invalid_after, 0);  // the per-node sweeps alone leave up to 32 of 64
-      EXPECT_LE(rj.invalid_after, rn.invalid_after);
-      EXPECT_GE(rj.min_after, rn.min_after);
-      expect_surface_kept_and_shared_together(joint, start);
-    }
-  }
+  for_each_twist([](double twist, int pillow) {
+    tmesh::OptimizeParams op = twist_family_params();
+    std::vector<tmesh::TMesh> joint = blocks(pillow, twist), nodes = blocks(pillow, twist);
+    const std::vector<tmesh::TMesh> start = joint;
+    const tmesh::OptimizeResult rj = tmesh::optimize(joint, op);
+    op.joint_rounds = 0;
+    const tmesh::OptimizeResult rn = tmesh::optimize(nodes, op);
+    std::printf("twist %.1f pillow %d: worst %.4f (%d not valid) -> joint %.4f (%d, %d rounds), per node %.4f (%d)\n", twist, pillow,
+                rj.min_before, rj.invalid_before, rj.min_after, rj.invalid_after, rj.joint_rounds, rn.min_after, rn.invalid_after);
+    EXPECT_GE(rj.joint_rounds, 1);
+    EXPECT_GT(rj.min_after, rj.min_before + 0.01);
+    EXPECT_EQ(rj.invalid_after, 0);  // the per-node sweeps alone leave up to 32 of 64
+    EXPECT_LE(rj.invalid_after, rn.invalid_after);
+    EXPECT_GE(rj.min_after, rn.min_after);
+    expect_surface_kept_and_shared_together(joint, start);
+  });
 }
 
 // The narrowed rounds (OptimizeParams::joint_window) only go on where the full rounds stop at a
@@ -234,26 +240,24 @@ TEST(Optimize, JointRoundsRaiseTheWorstJacobianAtLeastAsFarAsPerNodeSweeps) {
 // per-node sweep is left out, max_nodes_per_sweep 0: it starts from different points).
 TEST(Optimize, NarrowedJointRoundsGoOnWhereFullRoundsAreRefused) {
   int gained = 0;
-  for (const double twist : {0.8, 1.2, 1.8, 2.6}) {
-    for (int pillow = 0; pillow <= 1; ++pillow) {
-      tmesh::OptimizeParams op = twist_family_params();
-      op.joint_rounds = 30;
-      op.max_nodes_per_sweep = 0;
-      std::vector<tmesh::TMesh> narrowed = blocks(pillow, twist), stopped = blocks(pillow, twist);
-      const std::vector<tmesh::TMesh> start = narrowed;
-      const tmesh::OptimizeResult rw = tmesh::optimize(narrowed, op);
-      op.joint_window = 0;
-      const tmesh::OptimizeResult r0 = tmesh::optimize(stopped, op);
-      std::printf("twist %.1f pillow %d: worst %.4f -> narrowed %.4f (%d rounds), stopped at the refusal %.4f (%d rounds)\n", twist, pillow,
-                  rw.min_before, rw.min_after, rw.joint_rounds, r0.min_after, r0.joint_rounds);
-      EXPECT_GE(rw.joint_rounds, r0.joint_rounds);
-      EXPECT_GE(rw.min_after, rw.min_before);
-      EXPECT_LE(rw.invalid_after, rw.invalid_before);
-      EXPECT_GE(rw.min_after, r0.min_after - 1e-12);
-      gained += rw.min_after > r0.min_after + 1e-6 ? 1 : 0;
-      expect_surface_kept_and_shared_together(narrowed, start);
-    }
-  }
+  for_each_twist([&gained](double twist, int pillow) {
+    tmesh::OptimizeParams op = twist_family_params();
+    op.joint_rounds = 30;
+    op.max_nodes_per_sweep = 0;
+    std::vector<tmesh::TMesh> narrowed = blocks(pillow, twist), stopped = blocks(pillow, twist);
+    const std::vector<tmesh::TMesh> start = narrowed;
+    const tmesh::OptimizeResult rw = tmesh::optimize(narrowed, op);
+    op.joint_window = 0;
+    const tmesh::OptimizeResult r0 = tmesh::optimize(stopped, op);
+    std::printf("twist %.1f pillow %d: worst %.4f -> narrowed %.4f (%d rounds), stopped at the refusal %.4f (%d rounds)\n", twist, pillow,
+                rw.min_before, rw.min_after, rw.joint_rounds, r0.min_after, r0.joint_rounds);
+    EXPECT_GE(rw.joint_rounds, r0.joint_rounds);
+    EXPECT_GE(rw.min_after, rw.min_before);
+    EXPECT_LE(rw.invalid_after, rw.invalid_before);
+    EXPECT_GE(rw.min_after, r0.min_after - 1e-12);
+    gained += rw.min_after > r0.min_after + 1e-6 ? 1 : 0;
+    expect_surface_kept_and_shared_together(narrowed, start);
+  });
   EXPECT_GE(gained, 1);  // the window is not a no-op on this family
 }
 
