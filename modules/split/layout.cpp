@@ -242,8 +242,8 @@ void map_ids(Decomposition& sub, const Submesh& s) {
 }
 
 namespace {
-using K2 = surface::Kernel;
 
+using K2 = surface::Kernel;
 
 // A rim at most this far off its least-squares plane, relative to its diameter, counts as planar.
 constexpr double kMaxOffPlane = 0.1;
