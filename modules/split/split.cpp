@@ -135,7 +135,8 @@ Decomposition split(const surface::Mesh& mesh, const classify::Classification& c
       return detail::split_two_tori(mesh, p);
     } catch (const core::TopologyError& e) {
       core::log_warning(std::string("split: no connector cube between the two tori (") + e.what() +
-                        "); they meet on the waist's disk instead, which is not a conforming interface (split.genus2: disk)");
+                        "); they meet on the waist's disk instead, which is not a conforming interface (split.genus2: disk). "
+                        "Cuts nearer the holes may let the neck be cut: split.connector_cut, e.g. 0.85 where a shank runs to its eyes (examples/rod.yaml)");
     }
     p.genus2 = "disk";
     return detail::split_two_tori(mesh, p);
