@@ -132,7 +132,7 @@ Decomposition split_difference(const Mesh& input, const classify::Classification
   std::vector<int> outer_tris, wall_tris;
   for (std::size_t f = 0; f < wall.size(); ++f) (wall[f] ? wall_tris : outer_tris).push_back(static_cast<int>(f));
   Submesh outer = submesh(d.layout, outer_tris, std::vector<char>(outer_tris.size(), 0));
-  const std::vector<int> fill_tris = fill_openings(outer, d.layout);
+  const std::vector<int> fill_tris = fill_openings(outer, d.layout, false, FillMethod::hole_filling, &d.planar_fills);
   if (fill_tris.empty()) throw core::TopologyError("split: removing the hole's walls leaves no opening");
 
   // The cube: the filled outer surface, its patches from its own sharp curves.

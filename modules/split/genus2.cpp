@@ -252,7 +252,9 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
   std::array<Submesh, 2> torus;
   std::array<std::vector<int>, 2> fill, rim;
   const std::array<std::size_t, 3> layout_size{L.points.size(), L.triangles.size(), L.filled.size()};
+  int planar_fills = 0;
   auto make_rings = [&](FillMethod method) {
+    planar_fills = 0;
     L.points.resize(layout_size[0]), L.triangles.resize(layout_size[1]), L.filled.resize(layout_size[2]);  // fills only append
     for (int i = 0; i < 2; ++i) {
       const int r = rings_r[static_cast<std::size_t>(i)];
@@ -266,7 +268,9 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
         torus[1] = submesh(L, t, rev);
       } else {
         torus[i] = submesh(L, t, rev);
-        fill[i] = fill_openings(torus[i], L, true, method);  // no chords: flat triangles once the disk is pressed onto a face
+        int planar = 0;
+        fill[i] = fill_openings(torus[i], L, true, method, &planar);  // no chords: flat triangles once the disk is pressed onto a face
+        planar_fills += planar;
       }
     }
   };
@@ -291,6 +295,7 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
 
   Decomposition d;
   d.genus = 2;
+  d.planar_fills = planar_fills;
   d.genus2 = prm.genus2;
   d.critical_min = static_cast<int>(cp.minima.size());
   d.critical_max = static_cast<int>(cp.maxima.size());

@@ -392,7 +392,7 @@ bool fill_opening_in_plane(Mesh& m, HI border, double max_off_plane) {
   return true;
 }
 
-std::vector<int> fill_openings(Submesh& s, Layout& L, bool no_chords, FillMethod method) {
+std::vector<int> fill_openings(Submesh& s, Layout& L, bool no_chords, FillMethod method, int* planar_count) {
   namespace PMP = CGAL::Polygon_mesh_processing;
   std::vector<HI> borders;
   std::set<std::size_t> seen;
@@ -449,6 +449,7 @@ std::vector<int> fill_openings(Submesh& s, Layout& L, bool no_chords, FillMethod
   }
   if (planar && PMP::does_self_intersect(s.mesh))
     throw core::TopologyError("split: the planar fill of an opening crosses the surface (a cut along a flat face?)");
+  if (planar_count) *planar_count = planar ? static_cast<int>(borders.size()) : 0;
   if (s.mesh.has_garbage()) throw std::logic_error("split: hole filling removed elements");
   // New vertices and faces come after the old ones.
   for (std::size_t v = old_vertices; v < s.mesh.number_of_vertices(); ++v) {

@@ -89,6 +89,8 @@ bool fill_opening_in_plane(surface::Mesh& mesh, surface::Mesh::Halfedge_index bo
 /// How fill_openings fills: CGAL's hole filling (falling back to the planar fill where it
 /// crosses the surface), or every opening in its plane.
 enum class FillMethod { hole_filling, planar };
-std::vector<int> fill_openings(Submesh& s, Layout& layout, bool no_chords = false, FillMethod method = FillMethod::hole_filling);
+/// `planar`, if given, receives the number of openings filled in their planes.
+std::vector<int> fill_openings(Submesh& s, Layout& layout, bool no_chords = false, FillMethod method = FillMethod::hole_filling,
+                               int* planar = nullptr);
 
 }  // namespace volts::split::detail

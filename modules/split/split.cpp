@@ -304,6 +304,7 @@ core::Json report_figures(const Decomposition& d) {
                     {"quad_patches", d.quad_patches},
                     {"filled_triangles", std::count(d.layout.filled.begin(), d.layout.filled.end(), 1)}};
   if (!d.genus2.empty()) j["genus2"] = d.genus2;
+  j["planar_fills"] = d.planar_fills;
   return j;
 }
 

@@ -116,6 +116,7 @@ struct Decomposition {
   int quad_patches = 0;  ///< patches that are disks bounded by four sides (all of them when split succeeds)
   int genus = 0;
   std::string genus2;  ///< genus 2: what split built, "connector" or "disk" (report only, not in the stage file)
+  int planar_fills = 0;  ///< cut openings filled in their planes: CGAL's hole filling crossed the surface there (report only)
   int critical_min = 0, critical_max = 0, critical_saddle = 0;  ///< of the first harmonic field (0 if none)
   // For ParaView: per layout vertex, the harmonic fields (empty if not computed), and the cuts.
   std::vector<double> field, ring_field, tube_field;

@@ -389,6 +389,8 @@ TEST(Split, RodCutNearItsEyesIsTwoToriAndAConnectorWhoseSurfacesDoNotCrossThemse
   p.connector_cut = 0.85;
   const auto rod = run_split(shared("loopycuts_rod_rem.obj"), p);
   EXPECT_EQ(rod.genus2, "connector");
+  EXPECT_EQ(rod.planar_fills, 2);  // both disks: CGAL's fill crossed ring 1, then the neck
+  EXPECT_EQ(split::report_figures(rod).at("planar_fills"), 2);
   check_decomposition(rod);
   ASSERT_EQ(rod.components.size(), 9u);
   const auto surfaces = primitive_surfaces(rod);
@@ -396,6 +398,7 @@ TEST(Split, RodCutNearItsEyesIsTwoToriAndAConnectorWhoseSurfacesDoNotCrossThemse
   for (const auto& m : surfaces) EXPECT_FALSE(CGAL::Polygon_mesh_processing::does_self_intersect(m));
   // The eight's fills (CGAL's, kept) clear its surface too.
   const auto eight = run_split(shared("cfwen_eight.off"));
+  EXPECT_EQ(eight.planar_fills, 0);
   for (const auto& m : primitive_surfaces(eight)) EXPECT_FALSE(CGAL::Polygon_mesh_processing::does_self_intersect(m));
   // A cut along the shoulder's flat face (0.8): its fill lies in that face's plane; split says so.
   p.genus2 = "connector";
