@@ -284,12 +284,17 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
   };
   make_rings(FillMethod::hole_filling);
   // A fill that clears its ring can still cross the neck on the other side (the rod's shank near
-  // its eyes): then both rims are filled in their planes.
-  if (connector && CGAL::Polygon_mesh_processing::does_self_intersect(neck_surface().mesh)) {
-    core::log_verbose("split: a fill crosses the neck; both rims filled in their planes");
-    make_rings(FillMethod::planar);
-    if (CGAL::Polygon_mesh_processing::does_self_intersect(neck_surface().mesh))
-      throw core::TopologyError("split: the disks closing the neck cross its surface; try another split.connector_cut");
+  // its eyes): then both rims are filled in their planes. The checked neck is the one used below.
+  Submesh N;
+  if (connector) {
+    N = neck_surface();
+    if (CGAL::Polygon_mesh_processing::does_self_intersect(N.mesh)) {
+      core::log_verbose("split: a fill crosses the neck; both rims filled in their planes");
+      make_rings(FillMethod::planar);
+      N = neck_surface();
+      if (CGAL::Polygon_mesh_processing::does_self_intersect(N.mesh))
+        throw core::TopologyError("split: the disks closing the neck cross its surface; try another split.connector_cut");
+    }
   }
   const int n_input = static_cast<int>(mesh.number_of_vertices());
 
@@ -447,7 +452,6 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
   // the rims across them; shortest edge paths only if those fail.
   int neck_component = -1, neck_bottom = -1, neck_top = -1;
   if (connector) {
-    Submesh N = neck_surface();
     std::map<int, int> local;
     for (std::size_t v = 0; v < N.layout_vertex.size(); ++v) local[N.layout_vertex[v]] = static_cast<int>(v);
     const int nn = static_cast<int>(N.mesh.number_of_vertices());
