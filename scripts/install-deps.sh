@@ -15,8 +15,9 @@ PKGS=(
   nlohmann-json3-dev
   libgtest-dev libgmock-dev
   python3
+  gmsh  # the tests run `gmsh bezier.msh -check` (tests/extract/exports_check.h)
 )
-if [[ "${VOLTS_WITH_GMSH:-0}" == 1 ]]; then PKGS+=(gmsh libgmsh-dev); fi  # bench/bench_tet_route only
+if [[ "${VOLTS_WITH_GMSH:-0}" == 1 ]]; then PKGS+=(libgmsh-dev); fi  # bench/bench_tet_route only
 
 missing=()
 for p in "${PKGS[@]}"; do

@@ -1,0 +1,90 @@
+// Every solver export of a finished run (extract.exports' default: vtu, bext, k, json, msh, png)
+// exists next to report.json and parses, with the report's element and function counts: what a
+// user's script relies on after `volts run` (issue 8's end-to-end check). With `gmsh_check`, Gmsh's
+// own `gmsh bezier.msh -check` too when gmsh is installed (scripts/install-deps.sh installs it);
+// it is slow on large files (43 s on the torus's 87,648 nodes), bench_pipeline runs it per model.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "common/test_util.h"
+#include "core/atomic_file.h"
+#include "core/stage_file.h"
+#include "extract/readers.h"
+
+namespace volts::test {
+
+inline void expect_every_export_parses(const std::filesystem::path& work, bool gmsh_check = true) {
+  const core::Json x = core::read_report(work.string())["stages"]["extract"];
+  const long elements = x["bezier_elements"].get<long>(), functions = x["global_functions"].get<long>();
+  ASSERT_GT(elements, 0);
+  for (const char* k : {"vtu", "bext", "k", "json", "msh", "png"}) EXPECT_TRUE(x["outputs"].contains(k)) << k;
+
+  // bezier.vtu: VTK's reader, one Bézier hexahedron (79) per element, with degrees and weights.
+  vtkNew<vtkXMLUnstructuredGridReader> vtu;
+  vtu->SetFileName((work / "bezier.vtu").c_str());
+  vtu->Update();
+  vtkUnstructuredGrid* g = vtu->GetOutput();
+  ASSERT_EQ(g->GetNumberOfCells(), elements);
+  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c) ASSERT_EQ(g->GetCellType(c), 79) << "cell " << c;
+  for (const char* a : {"HigherOrderDegrees", "min_scaled_jacobian", "status"}) EXPECT_NE(g->GetCellData()->GetArray(a), nullptr) << a;
+  EXPECT_NE(g->GetPointData()->GetArray("RationalWeights"), nullptr);
+
+  // bezier.bext: the global functions and, per element, operator rows whose Bernstein columns sum to 1.
+  const Bext b = read_bext((work / "bezier.bext").string());
+  EXPECT_EQ(b.nodes, functions);
+  ASSERT_EQ(b.elements, elements);
+  double pou = 0;
+  for (long e = 0; e < b.elements; ++e)
+    for (std::size_t c = 0; c < b.coefficient_vectors.at(b.element_vectors[e].at(0)).size(); ++c) {
+      double sum = 0;
+      for (const long v : b.element_vectors[e]) sum += b.coefficient_vectors[v][c];
+      pou = std::max(pou, std::abs(sum - 1));
+    }
+  EXPECT_LT(pou, 1e-12) << "partition of unity read back from bezier.bext";
+
+  // bezier.k includes the bext by name.
+  const std::string k = core::read_text_file((work / "bezier.k").string());
+  const auto inc = k.find("*IGA_INCLUDE_BEZIER\n");
+  ASSERT_NE(inc, std::string::npos);
+  EXPECT_NE(k.find("\nbezier.bext\n", inc), std::string::npos);
+
+  // bezier.json: the versioned file for users' own solvers.
+  const core::Json j = core::read_stage_file((work / "bezier.json").string(), "volts-bezier", 1);
+  EXPECT_EQ(static_cast<long>(j["elements"].size()), elements);
+  EXPECT_EQ(j["global_functions"]["count"].get<long>(), functions);
+
+  // bezier.msh: Gmsh 4.1, one cubic Lagrange hexahedron (type 92) per element; gmsh accepts it.
+  const Msh m = read_msh((work / "bezier.msh").string());
+  ASSERT_EQ(static_cast<long>(m.elements.size()), elements);
+  for (const int t : m.types) ASSERT_EQ(t, 92);
+  if (gmsh_check && run("gmsh --version").code == 0) {
+    const Outcome check = run("gmsh " + (work / "bezier.msh").string() + " -check");
+    EXPECT_EQ(check.code, 0) << check.output;
+    EXPECT_EQ(check.output.find("rror"), std::string::npos) << check.output;
+    EXPECT_NE(check.output.find(std::to_string(elements) + " elements"), std::string::npos) << check.output;
+  }
+
+  // The scaled Jacobian histogram next to the report.
+  vtkNew<vtkPNGReader> png;
+  png->SetFileName((work / "scaled_jacobian_histogram.png").c_str());
+  png->Update();
+  int dims[3];
+  png->GetOutput()->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 420);
+  EXPECT_EQ(dims[1], 260);
+}
+
+}  // namespace volts::test
