@@ -1,5 +1,6 @@
 #include "tmesh/complex.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -128,17 +129,59 @@ std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, int element
     throw core::ConfigError("tmesh: a pillowed cube complex needs elements >= 1 and layers >= 1, got " + std::to_string(elements) + " and " +
                             std::to_string(layers));
   const double p = static_cast<double>(layers) / (elements + 2 * layers);
+  return complex_blocks(k, std::vector<std::array<int, 3>>(k.glue.size(), {elements, elements, elements}), layers,
+                        std::vector<std::array<double, 3>>(k.glue.size(), {p, p, p}));
+}
+
+namespace {
+
+// The axis of the neighbour's parameters that axis t of cube c's goes to through glue g, and the sign.
+std::pair<int, int> mapped_axis(const CubeComplex::Glue& g, int t) {
+  for (int a = 0; a < 3; ++a)
+    if (g.map.P[a][t] != 0) return {a, g.map.P[a][t]};
+  throw core::TopologyError("tmesh: a gluing map is not a signed permutation");
+}
+
+}  // namespace
+
+std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, const std::vector<std::array<int, 3>>& counts, int layers,
+                                               const std::vector<std::array<double, 3>>& p) {
+  if (layers < 1 || counts.size() != k.glue.size() || p.size() != k.glue.size())
+    throw core::ConfigError("tmesh: a pillowed cube complex needs layers >= 1 and counts and pillow thicknesses for each of its " +
+                            std::to_string(k.glue.size()) + " cubes, got " + std::to_string(layers) + ", " + std::to_string(counts.size()) +
+                            " and " + std::to_string(p.size()));
+  for (std::size_t c = 0; c < k.glue.size(); ++c) {
+    for (int d = 0; d < 3; ++d) {
+      if (counts[c][static_cast<std::size_t>(d)] < 1)
+        throw core::ConfigError("tmesh: cube " + std::to_string(c) + " has " + std::to_string(counts[c][static_cast<std::size_t>(d)]) + " elements along axis " + std::to_string(d));
+      if (!(p[c][static_cast<std::size_t>(d)] > 0 && p[c][static_cast<std::size_t>(d)] < 0.5))
+        throw core::ConfigError("tmesh: cube " + std::to_string(c) + "'s pillow thickness " + std::to_string(p[c][static_cast<std::size_t>(d)]) +
+                                " along axis " + std::to_string(d) + " is not in (0, 0.5)");
+    }
+    for (int f = 0; f < 6; ++f) {
+      const auto& g = k.glue[c][static_cast<std::size_t>(f)];
+      if (!g) continue;
+      for (int t = 0; t < 3; ++t) {
+        if (t == f / 2) continue;
+        const int u = mapped_axis(*g, t).first;
+        if (counts[c][static_cast<std::size_t>(t)] != counts[static_cast<std::size_t>(g->cube)][static_cast<std::size_t>(u)])
+          throw core::TopologyError("tmesh: " + where(static_cast<int>(c), f) + " has " + std::to_string(counts[c][static_cast<std::size_t>(t)]) +
+                                    " elements along axis " + std::to_string(t) + ", the " + where(g->cube, g->face) + " glued to it " +
+                                    std::to_string(counts[static_cast<std::size_t>(g->cube)][static_cast<std::size_t>(u)]));
+      }
+    }
+  }
   std::vector<std::vector<Block>> out(k.glue.size());
   for (std::size_t c = 0; c < k.glue.size(); ++c) {
     std::array<Vec3, 8> corner, inner;
     for (int i = 0; i < 8; ++i) {
       const std::array<int, 3> v{i & 1, (i >> 1) & 1, (i >> 2) & 1};
       const std::array<int, 3> s = inner_direction(k, static_cast<int>(c), v);
-      for (int d = 0; d < 3; ++d) corner[i][d] = v[d], inner[i][d] = v[d] + p * s[d];
+      for (int d = 0; d < 3; ++d) corner[i][d] = v[d], inner[i][d] = v[d] + p[c][static_cast<std::size_t>(d)] * s[d];
     }
     Block core;
     core.corners = inner;
-    core.elements = {elements, elements, elements};
+    core.elements = counts[c];
     out[c].push_back(core);
     for (int f = 0; f < 6; ++f) {
       if (k.glue[c][static_cast<std::size_t>(f)]) continue;
@@ -146,8 +189,8 @@ std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, int element
       Block b;
       b.pillow = true;
       b.boundary[static_cast<std::size_t>(f)] = 1;
-      b.elements = {elements, elements, elements};
-      b.elements[d] = layers;
+      b.elements = counts[c];
+      b.elements[static_cast<std::size_t>(d)] = layers;
       for (int i = 0; i < 8; ++i) {
         // Block corner i: the cube corner with bit d = side, outer or inner by i's bit d.
         const int j = (i & ~(1 << d)) | (side << d);
@@ -157,6 +200,36 @@ std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, int element
       out[c].push_back(b);
     }
   }
+  return out;
+}
+
+std::vector<std::array<int, 3>> element_counts(const CubeComplex& k, const std::vector<std::array<int, 3>>& wanted) {
+  if (wanted.size() != k.glue.size())
+    throw core::ConfigError("tmesh: element counts for " + std::to_string(wanted.size()) + " of " + std::to_string(k.glue.size()) + " cubes");
+  std::vector<int> up(3 * wanted.size());
+  for (std::size_t i = 0; i < up.size(); ++i) up[i] = static_cast<int>(i);
+  auto find = [&](int x) {
+    while (up[static_cast<std::size_t>(x)] != x) x = up[static_cast<std::size_t>(x)] = up[static_cast<std::size_t>(up[static_cast<std::size_t>(x)])];
+    return x;
+  };
+  for (std::size_t c = 0; c < k.glue.size(); ++c)
+    for (int f = 0; f < 6; ++f) {
+      const auto& g = k.glue[c][static_cast<std::size_t>(f)];
+      if (!g) continue;
+      for (int t = 0; t < 3; ++t)
+        if (t != f / 2) up[static_cast<std::size_t>(find(3 * static_cast<int>(c) + t))] = find(3 * g->cube + mapped_axis(*g, t).first);
+    }
+  std::vector<int> most(up.size(), 0);
+  for (std::size_t c = 0; c < wanted.size(); ++c)
+    for (int d = 0; d < 3; ++d) {
+      const int w = wanted[c][static_cast<std::size_t>(d)];
+      if (w < 1) throw core::ConfigError("tmesh: cube " + std::to_string(c) + " asks for " + std::to_string(w) + " elements along axis " + std::to_string(d));
+      int& m = most[static_cast<std::size_t>(find(3 * static_cast<int>(c) + d))];
+      m = std::max(m, w);
+    }
+  std::vector<std::array<int, 3>> out(wanted.size());
+  for (std::size_t c = 0; c < wanted.size(); ++c)
+    for (int d = 0; d < 3; ++d) out[c][static_cast<std::size_t>(d)] = most[static_cast<std::size_t>(find(3 * static_cast<int>(c) + d))];
   return out;
 }
 

@@ -57,6 +57,65 @@ void glue_faces(CubeComplex& k, int a, int fa, int b, int fb, const AxisMap& a_t
 /// there (two surface planes perpendicular to one axis facing opposite ways).
 std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, int elements, int layers);
 
+/// The same with element counts per cube and axis (`counts[c][d]` along axis d of cube c's core
+/// and of its slabs across d; slabs have `layers` across their face) and the pillow's parametric
+/// thickness per cube and axis, `p[c][d]` in (0, 0.5): the same thickness in a common frame for
+/// cubes of different sizes (box_complex: P / the box's extent), so that the inner copies of
+/// shared vertices coincide. The overload above is counts = `elements` and p = layers /
+/// (elements + 2 layers) everywhere. Throws core::ConfigError for layers < 1, a count < 1, a p
+/// outside (0, 0.5) or sizes not one per cube; core::TopologyError naming the cubes and the face
+/// if two glued faces have different counts along their shared axes (element_counts makes them
+/// agree), and as above.
+std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, const std::vector<std::array<int, 3>>& counts, int layers,
+                                               const std::vector<std::array<double, 3>>& p);
+
+/// Element counts per cube and axis that agree across glued faces: axes that glued faces share
+/// (their tangential axes, through the gluing maps) form classes, and every axis of a class gets
+/// the largest count `wanted` asks for in it. An axis no gluing ties keeps its own wish (e.g. a
+/// connector's length). Throws core::ConfigError if `wanted` is not one per cube or has a count < 1.
+std::vector<std::array<int, 3>> element_counts(const CubeComplex& k, const std::vector<std::array<int, 3>>& wanted);
+
+/// The cubes of a polycube as boxes of one frame (a development: structure.h's develop() puts
+/// every cube of a connected polycube in one frame, cutting each torus open at one gluing), of any
+/// sizes, meeting face to face in whole faces or in part (Liu et al. 2013 §4.3, Fig. 6(a)).
+struct BoxLayout {
+  std::vector<std::array<Vec3, 2>> boxes;  ///< lo, hi per box (lo < hi on every axis); interiors disjoint
+  /// A torus cut open: face `fa` of box `a`, moved by `shift`, is face `fb` of box `b` (opposite
+  /// sides of one axis; shift only along it).
+  struct Closure {
+    int a = 0, fa = 0, b = 0, fb = 0;
+    Vec3 shift{0, 0, 0};
+  };
+  std::vector<Closure> closures;
+};
+
+/// A BoxLayout cut into sub-boxes that meet in whole faces: every box is cut by the planes where
+/// a touching box's face ends on it, and by every cut of a touching box that crosses their
+/// shared face, until none is left (cuts travel around rings through the closures). Each sub-box
+/// is a cube of `complex` with unit parameters along the frame's axes; sub-boxes are glued where
+/// their faces coincide (touching or across a closure), every other face is surface.
+struct BoxComplex {
+  CubeComplex complex;
+  std::vector<int> box;                     ///< per cube: its box of the layout
+  std::vector<std::array<Vec3, 2>> extent;  ///< per cube: lo, hi in the frame
+  std::vector<BoxLayout::Closure> closures;  ///< the layout's
+  double size = 1;                           ///< the frame's largest coordinate or extent (tolerances are relative to it)
+  Vec3 to_frame(int cube, const Vec3& uvw) const;  ///< lo + uvw (hi - lo), also outside [0,1]^3
+  /// The cube holding frame point x (within tol of its box, relative to the frame's size;
+  /// `prefer` first, then in order) and x in its parameters (clamped to [0,1]^3); a point just past a
+  /// closing face is carried across it. nullopt if no box holds it.
+  std::optional<std::pair<int, Vec3>> locate(const Vec3& x, int prefer = -1, double tol = 1e-9) const;
+  /// complex_blocks' per-cube thicknesses for a pillow `thickness` thick in the frame: thickness / extent.
+  std::vector<std::array<double, 3>> pillow(double thickness) const;
+};
+
+/// Builds the BoxComplex of `layout`; `cuts[b][d]` (optional, frame coordinates strictly inside
+/// box b along axis d) cut box b too (e.g. sharp lines), carried like the others. Throws
+/// core::TopologyError naming the boxes if a box is empty or not finite, two boxes overlap, or a
+/// closure's faces are not translates of each other by its shift; core::ConfigError for a cut
+/// outside its box or cuts not one per box.
+BoxComplex box_complex(const BoxLayout& layout, const std::vector<std::array<std::vector<double>, 3>>& cuts = {});
+
 /// The cube holding the point x given in cube c's parameters (it may lie outside [0,1]^3 by less
 /// than one cube): the point is carried across glued faces until every coordinate is in [0,1]
 /// (within `tol`, then clamped). nullopt if it leaves the solid through a surface face.

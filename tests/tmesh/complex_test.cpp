@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <vector>
 
@@ -80,26 +81,30 @@ FaceKey face_key(const std::array<Vec3, 8>& x, int f) {
   return k;
 }
 
-// The blocks of the complex placed in space; checks the properties in the header comment and
-// returns the placed blocks.
-std::vector<Placed> check_complex(const tmesh::CubeComplex& k, const std::vector<AxisMap>& to_space, double want_volume,
-                                  double want_surface, int elements, int layers) {
-  const auto blocks = tmesh::complex_blocks(k, elements, layers);
-  EXPECT_EQ(blocks.size(), k.glue.size());
+// Blocks placed in space by `place` (cube, its parameters -> space); checks the properties in the
+// header comment (tiling: the volume; conforming: every inner block face is the whole face of
+// exactly one other block with the same element counts; positive Jacobians; a pillow has exactly
+// one surface face, a core none) and returns the placed blocks.
+// `key` maps a placed point to where faces are compared (a ring's development folded back onto
+// itself; volumes and Jacobians are measured before it).
+std::vector<Placed> check_blocks(const std::vector<std::vector<Block>>& blocks, const std::function<Vec3(std::size_t, const Vec3&)>& place,
+                                 double want_volume, double want_surface, const std::function<Vec3(Vec3)>& key = [](Vec3 x) { return x; }) {
   std::vector<Placed> all;
   double total = 0, surface = 0;
   std::map<FaceKey, std::vector<std::array<int, 2>>> faces;  // -> (placed block, face)
   for (std::size_t c = 0; c < blocks.size(); ++c)
     for (const Block& b : blocks[c]) {
       Placed p{{}, b};
-      for (int i = 0; i < 8; ++i) p.x[i] = to_space[c](b.corners[i]);
+      for (int i = 0; i < 8; ++i) p.x[i] = place(c, b.corners[i]);
       double min_det = 0;
       total += volume(p.x, &min_det);
       EXPECT_GT(min_det, 1e-6) << "cube " << c;
       int on = 0;
+      std::array<Vec3, 8> folded;
+      for (int i = 0; i < 8; ++i) folded[i] = key(p.x[i]);
       for (int f = 0; f < 6; ++f) {
         on += b.boundary[f];
-        faces[face_key(p.x, f)].push_back({static_cast<int>(all.size()), f});
+        faces[face_key(folded, f)].push_back({static_cast<int>(all.size()), f});
       }
       EXPECT_EQ(on, b.pillow ? 1 : 0);
       all.push_back(p);
@@ -136,6 +141,14 @@ std::vector<Placed> check_complex(const tmesh::CubeComplex& k, const std::vector
   }
   EXPECT_NEAR(surface, want_surface, 1e-9);
   return all;
+}
+
+// The blocks of the complex placed in space through each cube's map.
+std::vector<Placed> check_complex(const tmesh::CubeComplex& k, const std::vector<AxisMap>& to_space, double want_volume,
+                                  double want_surface, int elements, int layers) {
+  const auto blocks = tmesh::complex_blocks(k, elements, layers);
+  EXPECT_EQ(blocks.size(), k.glue.size());
+  return check_blocks(blocks, [&](std::size_t c, const Vec3& x) { return to_space[c](x); }, want_volume, want_surface);
 }
 
 std::vector<std::array<Vec3, 8>> sorted_corners(const std::vector<Block>& blocks) {
@@ -253,4 +266,132 @@ TEST(CubeComplex, BadInputIsRejected) {
   EXPECT_THROW(tmesh::glue_faces(k, 0, 1, 1, 0, shift(0, 0, 0)), core::TopologyError);
   tmesh::glue_faces(k, 0, 1, 1, 0, shift(-1, 0, 0));
   EXPECT_THROW(tmesh::glue_faces(k, 0, 1, 1, 0, shift(-1, 0, 0)), core::TopologyError);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Boxes of one frame (BoxLayout): faces of different sizes meeting in part become whole faces of
+// sub-boxes; the pillowed blocks of the result tile the boxes and conform.
+
+namespace {
+
+tmesh::BoxLayout::Closure closure(int a, int fa, int b, int fb, const Vec3& shift) {
+  tmesh::BoxLayout::Closure c;
+  c.a = a, c.fa = fa, c.b = b, c.fb = fb, c.shift = shift;
+  return c;
+}
+
+// Pillowed blocks of a box complex with `elements` per unit of frame length along every axis (at
+// least one), the pillow 0.1 thick in the frame, checked in the frame (`wrap` folds a ring's
+// development back onto itself).
+std::vector<Placed> check_boxes(const tmesh::BoxComplex& bc, double want_volume, double want_surface,
+                                const std::function<Vec3(Vec3)>& wrap = [](Vec3 x) { return x; }) {
+  std::vector<std::array<int, 3>> wanted(bc.extent.size());
+  for (std::size_t c = 0; c < wanted.size(); ++c)
+    for (int d = 0; d < 3; ++d) wanted[c][d] = std::max(1, static_cast<int>(std::lround(8 * (bc.extent[c][1][d] - bc.extent[c][0][d]))));
+  const auto counts = tmesh::element_counts(bc.complex, wanted);
+  const auto blocks = tmesh::complex_blocks(bc.complex, counts, 1, bc.pillow(0.1));
+  return check_blocks(blocks, [&](std::size_t c, const Vec3& x) { return bc.to_frame(static_cast<int>(c), x); }, want_volume, want_surface, wrap);
+}
+
+}  // namespace
+
+TEST(BoxComplex, UnitBoxesGiveTheGluedComplexsBlocks) {
+  // The row of three with a cube on the middle one, as boxes of one frame and as glued cubes.
+  tmesh::BoxLayout L;
+  L.boxes = {{Vec3{-1, 0, 0}, Vec3{0, 1, 1}}, {Vec3{0, 0, 0}, Vec3{1, 1, 1}}, {Vec3{1, 0, 0}, Vec3{2, 1, 1}}, {Vec3{0, 0, 1}, Vec3{1, 1, 2}}};
+  const tmesh::BoxComplex bc = tmesh::box_complex(L);
+  ASSERT_EQ(bc.extent.size(), 4u);
+  std::vector<AxisMap> to_space;
+  const auto glued = check_complex(t_junction(shift(0, 0, -1), to_space), to_space, 4, 18, 8, 1);
+  const auto boxed = check_boxes(bc, 4, 18);
+  ASSERT_EQ(glued.size(), boxed.size());
+  auto corners = [](const std::vector<Placed>& v) {
+    std::vector<std::array<Vec3, 8>> c;
+    for (const Placed& p : v) c.push_back(p.x);
+    std::sort(c.begin(), c.end());
+    return c;
+  };
+  const auto a = corners(glued), b = corners(boxed);
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int d = 0; d < 3; ++d) EXPECT_NEAR(a[i][j][d], b[i][j][d], 1e-12);
+}
+
+TEST(BoxComplex, ACubeOnPartOfAFaceCutsTheFaceAndConforms) {
+  // A unit cube on the middle third of a 3 x 1 x 1 bar's top: the bar is cut at x = 1 and 2.
+  tmesh::BoxLayout L;
+  L.boxes = {{Vec3{0, 0, 0}, Vec3{3, 1, 1}}, {Vec3{1, 0, 1}, Vec3{2, 1, 2}}};
+  const tmesh::BoxComplex bc = tmesh::box_complex(L);
+  ASSERT_EQ(bc.extent.size(), 4u);
+  EXPECT_EQ(std::count(bc.box.begin(), bc.box.end(), 0), 3);
+  check_boxes(bc, 3 + 1, 2 * (3 + 3 + 1) - 1 + 5);
+}
+
+TEST(BoxComplex, AThinBoxOnTheMiddleOfAnEndFaceMakesShouldersOfOtherSizes) {
+  // The rod's small end: a 4 x 1 x 1 shank whose end x = 4 carries a 1 x 1 x 0.4 box on its
+  // middle strip z in [0.3, 0.7]; the rest of the end face (the shoulders) is surface. The shank
+  // is cut at z = 0.3 and 0.7 into boxes 0.3, 0.4 and 0.3 high, whose pillows are as thick as
+  // the others in the frame (0.1) so that the inner copies of their shared vertices coincide.
+  tmesh::BoxLayout L;
+  L.boxes = {{Vec3{0, 0, 0}, Vec3{4, 1, 1}}, {Vec3{4, 0, 0.3}, Vec3{5, 1, 0.7}}};
+  const tmesh::BoxComplex bc = tmesh::box_complex(L);
+  ASSERT_EQ(bc.extent.size(), 4u);
+  std::vector<double> heights;
+  for (std::size_t c = 0; c < bc.extent.size(); ++c)
+    if (bc.box[c] == 0) heights.push_back(bc.extent[c][1][2] - bc.extent[c][0][2]);
+  ASSERT_EQ(heights.size(), 3u);
+  EXPECT_NEAR(heights[0], 0.3, 1e-15);
+  EXPECT_NEAR(heights[1], 0.4, 1e-15);
+  EXPECT_NEAR(heights[2], 0.3, 1e-15);
+  const double shank = 2 * (4 + 4 + 1), box = 2 * (1 * 1 + 1 * 0.4 + 1 * 0.4);
+  check_boxes(bc, 4 + 0.4, shank + box - 2 * 0.4);
+}
+
+TEST(BoxComplex, CutsTravelAroundARingThroughItsClosure) {
+  // A ring of four unit boxes developed along x (box 3's face x = 4 is box 0's x = 0), and a box
+  // on the middle half (in y) of box 1's top: its sides cut box 1 at y = 0.25 and 0.75, and the
+  // cuts go on through boxes 0 and 2 and, across the closure, box 3.
+  tmesh::BoxLayout L;
+  for (int i = 0; i < 4; ++i) L.boxes.push_back({Vec3{double(i), 0, 0}, Vec3{double(i + 1), 1, 1}});
+  L.boxes.push_back({Vec3{1, 0.25, 1}, Vec3{2, 0.75, 2}});
+  L.closures = {closure(3, 1, 0, 0, {-4, 0, 0})};
+  const tmesh::BoxComplex bc = tmesh::box_complex(L);
+  for (int b = 0; b < 4; ++b) EXPECT_EQ(std::count(bc.box.begin(), bc.box.end(), b), 3) << "ring box " << b;
+  EXPECT_EQ(std::count(bc.box.begin(), bc.box.end(), 4), 1);
+  // The sub-boxes at x = 4 are glued to those at x = 0 (no surface there).
+  for (std::size_t c = 0; c < bc.extent.size(); ++c) {
+    if (bc.box[c] != 3) continue;
+    EXPECT_TRUE(bc.complex.glue[c][1].has_value()) << c;
+  }
+  auto wrap = [](Vec3 x) {
+    if (x[0] > 4 - 1e-12) x[0] -= 4;
+    return x;
+  };
+  check_boxes(bc, 4 + 0.5, 16 - 0.5 + (0.5 + 2 * 1 + 2 * 0.5), wrap);
+  // locate: a point past the closing face (a pillow corner reaching across it) lands in box 0.
+  const auto at = bc.locate({4.05, 0.5, 0.5});
+  ASSERT_TRUE(at);
+  EXPECT_EQ(bc.box[static_cast<std::size_t>(at->first)], 0);
+  EXPECT_NEAR(at->second[0], 0.05, 1e-12);
+  EXPECT_FALSE(bc.locate({0.5, 0.5, 1.5}));  // above box 0: outside the solid
+}
+
+TEST(BoxComplex, BadLayoutsAreRefusedNamingTheBoxes) {
+  tmesh::BoxLayout L;
+  L.boxes = {{Vec3{0, 0, 0}, Vec3{1, 1, 1}}, {Vec3{0.5, 0, 0}, Vec3{1.5, 1, 1}}};
+  try {
+    tmesh::box_complex(L);
+    ADD_FAILURE() << "overlapping boxes accepted";
+  } catch (const core::TopologyError& e) {
+    EXPECT_NE(std::string(e.what()).find("box 0 and box 1 overlap"), std::string::npos) << e.what();
+  }
+  L.boxes = {{Vec3{0, 0, 0}, Vec3{1, 1, 1}}, {Vec3{1, 0, 0}, Vec3{2, 1, 1}}};
+  L.closures = {closure(1, 1, 0, 0, {-1.5, 0, 0})};
+  EXPECT_THROW(tmesh::box_complex(L), core::TopologyError);  // the shift misses the face
+  L.closures = {closure(1, 1, 0, 2, {-2, 0, 0})};
+  EXPECT_THROW(tmesh::box_complex(L), core::TopologyError);  // faces of different axes
+  L.closures.clear();
+  EXPECT_THROW(tmesh::box_complex(L, {{std::vector<double>{1.5}, {}, {}}, {}}), core::ConfigError);  // cut outside box 0
+  L.boxes = {{Vec3{0, 0, 0}, Vec3{0, 1, 1}}};
+  EXPECT_THROW(tmesh::box_complex(L), core::TopologyError);  // empty
 }
