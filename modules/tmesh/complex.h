@@ -12,6 +12,11 @@
 // edge's inner copy lies in the cube across the edge's bisector): their corners are given in the
 // owning cube's parameters, possibly outside [0,1]^3, and locate() takes such a point to the cube
 // that holds it.
+//
+// Cubes of different sizes meeting in part (§4.3, Fig. 6(a): the rod's shank ending on a thinner
+// eye, a ring on a plate) are given as boxes of one frame (BoxLayout); box_complex cuts them
+// until every face is glued whole or not at all, and complex_blocks then pillows the sub-boxes
+// with one pillow thickness in the frame (BoxComplex::pillow).
 #pragma once
 
 #include <array>
