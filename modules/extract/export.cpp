@@ -5,14 +5,17 @@
 #include <vtkPNGWriter.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <limits>
 #include <map>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
 
+#include "bezier/bernstein.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/stage_file.h"
@@ -168,31 +171,81 @@ void write_lsdyna_deck(const std::string& path, const std::string& bext_name) {
 // ---------------------------------------------------------------------------------------------
 // JSON
 
+namespace {
+
+// JSON numbers as nlohmann's compact dump writes them (shortest round trip, ".0" on integral
+// values, null for non-finite ones), appended to a string: the file is written as it is built,
+// without a tree of a million small JSON values (the torus's 56 MB took 1.2 s that way).
+void put_json(std::string& out, double v) {
+  if (!std::isfinite(v)) {
+    out += "null";
+    return;
+  }
+  char buf[32];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  const std::string_view t(buf, static_cast<std::size_t>(res.ptr - buf));
+  out += t;
+  if (t.find_first_of(".eE") == std::string_view::npos) out += ".0";
+}
+void put_json(std::string& out, long v) {
+  char buf[24];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, static_cast<std::size_t>(res.ptr - buf));
+}
+
+}  // namespace
+
 void write_bezier_json(const std::string& path, const Result& r) {
   const GlobalBasis& g = r.basis;
-  core::Json points = core::Json::array(), weights = core::Json::array();
-  for (std::size_t i = 0; i < g.points.size(); ++i) {
-    for (int d = 0; d < 3; ++d) points.push_back(g.points[i][d]);
-    weights.push_back(g.weights[i]);
-  }
-  core::Json elements = core::Json::array();
+  // Keys in nlohmann's order (sorted), as core::write_stage_file writes them.
+  std::string out;
+  out.reserve(64 * g.elements.size() * 24 + 64 * g.points.size());
+  out += "{\"bernstein_order\":\"i + (p+1)*(j + (p+1)*k), as BezierHex and the .bext\",\"elements\":[";
   for (std::size_t e = 0; e < g.elements.size(); ++e) {
     const auto& el = g.elements[e];
-    core::Json triplets = core::Json::array();
+    if (e) out += ',';
+    out += "{\"degree\":[";
+    for (int d = 0; d < 3; ++d) put_json(out, static_cast<long>(r.degree)), out += d < 2 ? "," : "]";
+    out += ",\"functions\":[";
+    for (std::size_t i = 0; i < el.functions.size(); ++i) {
+      if (i) out += ',';
+      put_json(out, static_cast<long>(el.functions[i]));
+    }
+    out += ']';
+    if (e < r.min_scaled_jacobian.size()) out += ",\"min_scaled_jacobian\":", put_json(out, r.min_scaled_jacobian[e]);
+    out += ",\"operator\":{\"columns\":";
+    put_json(out, static_cast<long>(el.op.cols()));
+    out += ",\"rows\":";
+    put_json(out, static_cast<long>(el.op.rows()));
+    out += ",\"triplets\":[";
+    bool first = true;
     for (int row = 0; row < el.op.outerSize(); ++row)
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(el.op, row); it; ++it)
-        triplets.push_back(core::Json::array({row, static_cast<int>(it.col()), it.value()}));
-    core::Json j = {{"degree", {r.degree, r.degree, r.degree}},
-                    {"functions", el.functions},
-                    {"operator", {{"rows", el.op.rows()}, {"columns", el.op.cols()}, {"triplets", std::move(triplets)}}}};
-    if (e < r.status.size()) j["status"] = r.status[e];
-    if (e < r.min_scaled_jacobian.size()) j["min_scaled_jacobian"] = r.min_scaled_jacobian[e];
-    elements.push_back(std::move(j));
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(el.op, row); it; ++it) {
+        out += first ? "[" : ",[";
+        first = false;
+        put_json(out, static_cast<long>(row)), out += ',';
+        put_json(out, static_cast<long>(it.col())), out += ',';
+        put_json(out, it.value()), out += ']';
+      }
+    out += "]}";
+    if (e < r.status.size()) out += ",\"status\":", put_json(out, static_cast<long>(r.status[e]));
+    out += '}';
   }
-  core::Json payload = {{"bernstein_order", "i + (p+1)*(j + (p+1)*k), as BezierHex and the .bext"},
-                        {"global_functions", {{"count", g.points.size()}, {"points", std::move(points)}, {"weights", std::move(weights)}}},
-                        {"elements", std::move(elements)}};
-  core::write_stage_file(path, "volts-bezier", 1, std::move(payload));
+  out += "],\"format\":\"volts-bezier\",\"global_functions\":{\"count\":";
+  put_json(out, static_cast<long>(g.points.size()));
+  out += ",\"points\":[";
+  for (std::size_t i = 0; i < g.points.size(); ++i)
+    for (int d = 0; d < 3; ++d) {
+      if (i || d) out += ',';
+      put_json(out, g.points[i][d]);
+    }
+  out += "],\"weights\":[";
+  for (std::size_t i = 0; i < g.weights.size(); ++i) {
+    if (i) out += ',';
+    put_json(out, g.weights[i]);
+  }
+  out += "]},\"producer\":" + core::Json(core::producer()).dump() + ",\"version\":1}\n";
+  core::write_text_atomically(path, out);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -253,9 +306,21 @@ std::size_t write_gmsh(const std::string& path, const std::vector<bezier::Bezier
   std::unordered_map<std::array<long long, 3>, std::vector<int>, KeyHash> grid;
   std::vector<Eigen::Vector3d> nodes;
   std::vector<std::vector<int>> connectivity(hexes.size());
+  // Bernstein values at the lattice's abscissae i / p, tabulated once (polynomial elements: the
+  // weights are all 1, checked above).
+  const int n1 = p + 1;
+  std::vector<Eigen::VectorXd> B(static_cast<std::size_t>(n1));
+  for (int i = 0; i <= p; ++i) B[static_cast<std::size_t>(i)] = bezier::bernstein_basis(p, static_cast<double>(i) / p);
   for (std::size_t e = 0; e < hexes.size(); ++e)
     for (const auto& ijk : lattice) {
-      const Eigen::Vector3d x = bezier::evaluate(hexes[e], Eigen::Vector3d(ijk[0], ijk[1], ijk[2]) / p);
+      const Eigen::VectorXd &bu = B[static_cast<std::size_t>(ijk[0])], &bv = B[static_cast<std::size_t>(ijk[1])], &bw = B[static_cast<std::size_t>(ijk[2])];
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (int c = 0; c < n1; ++c)
+        for (int b = 0; b < n1; ++b) {
+          const double vw = bv[b] * bw[c];
+          if (vw == 0) continue;
+          for (int a = 0; a < n1; ++a) x += (bu[a] * vw) * hexes[e].points[static_cast<std::size_t>(a + n1 * (b + n1 * c))];
+        }
       std::array<long long, 3> key{};
       for (int d = 0; d < 3; ++d) key[d] = static_cast<long long>(std::floor((x[d] - box.min()[d]) / cell));
       int found = -1;
