@@ -199,4 +199,126 @@ BoxComplex box_complex(const BoxLayout& layout, const std::vector<std::array<std
   return r;
 }
 
+namespace {
+
+AxisMap compose(const AxisMap& outer, const AxisMap& inner) {
+  AxisMap m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      m.P[i][j] = 0;
+      for (int l = 0; l < 3; ++l) m.P[i][j] += outer.P[i][l] * inner.P[l][j];
+    }
+  m.t = outer(inner.t);
+  return m;
+}
+
+std::array<Vec3, 2> image_box(const AxisMap& m) {
+  std::array<Vec3, 2> b{m(Vec3{0, 0, 0}), m(Vec3{0, 0, 0})};
+  for (int i = 1; i < 8; ++i) {
+    const Vec3 x = m(Vec3{double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
+    for (int d = 0; d < 3; ++d) b[0][d] = std::min(b[0][d], x[d]), b[1][d] = std::max(b[1][d], x[d]);
+  }
+  return b;
+}
+
+// The frame face that face f of a cube placed by m becomes.
+int frame_face(const AxisMap& m, int f) {
+  Vec3 n{0, 0, 0};
+  n[f / 2] = f % 2 ? 1 : -1;
+  const Vec3 w = m.linear(n);
+  int a = 0;
+  while (w[a] == 0) ++a;
+  return 2 * a + (w[a] > 0 ? 1 : 0);
+}
+
+}  // namespace
+
+std::vector<AxisMap> develop(const CubeComplex& k, BoxLayout& layout) {
+  const std::size_t n = k.glue.size();
+  std::vector<AxisMap> frame(n);
+  std::vector<char> placed(n, 0);
+  layout = BoxLayout{};
+  if (n == 0) return frame;
+  std::vector<int> queue{0};
+  placed[0] = 1;
+  std::vector<std::array<char, 6>> closed(n, {0, 0, 0, 0, 0, 0});
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const int c = queue[head];
+    for (int f = 0; f < 6; ++f) {
+      const auto& g = k.glue[static_cast<std::size_t>(c)][static_cast<std::size_t>(f)];
+      if (!g) continue;
+      const AxisMap want = compose(frame[static_cast<std::size_t>(c)], g->map.inverse());  // g's parameters -> the frame
+      if (!placed[static_cast<std::size_t>(g->cube)]) {
+        frame[static_cast<std::size_t>(g->cube)] = want, placed[static_cast<std::size_t>(g->cube)] = 1;
+        queue.push_back(g->cube);
+        continue;
+      }
+      const AxisMap& have = frame[static_cast<std::size_t>(g->cube)];
+      bool same = have.P == want.P, shifted = false;
+      Vec3 shift{0, 0, 0};
+      for (int d = 0; d < 3; ++d) shift[d] = have.t[d] - want.t[d], shifted = shifted || std::abs(shift[d]) > 1e-12;
+      if (!same)
+        throw core::TopologyError("tmesh: cube " + std::to_string(c) + " face " + std::to_string(f) + " is glued to cube " + std::to_string(g->cube) +
+                                  " with a turn no single frame holds");
+      if (!shifted || closed[static_cast<std::size_t>(c)][static_cast<std::size_t>(f)]) continue;
+      closed[static_cast<std::size_t>(c)][static_cast<std::size_t>(f)] = closed[static_cast<std::size_t>(g->cube)][static_cast<std::size_t>(g->face)] = 1;
+      BoxLayout::Closure cl;
+      cl.a = c, cl.fa = frame_face(frame[static_cast<std::size_t>(c)], f), cl.b = g->cube, cl.fb = frame_face(have, g->face), cl.shift = shift;
+      layout.closures.push_back(cl);
+    }
+  }
+  for (std::size_t c = 0; c < n; ++c) {
+    if (!placed[c]) throw core::TopologyError("tmesh: cube " + std::to_string(c) + " is not connected to cube 0 by gluings");
+    layout.boxes.push_back(image_box(frame[c]));
+  }
+  return frame;
+}
+
+std::vector<std::vector<Block>> blocks_in_cubes(const BoxComplex& bc, const std::vector<AxisMap>& frame, const std::vector<std::vector<Block>>& blocks) {
+  std::vector<std::vector<Block>> cores(frame.size()), slabs(frame.size());
+  std::vector<std::vector<int>> slab_face(frame.size());
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    const int c = bc.box.at(i);
+    const AxisMap to_cube = frame.at(static_cast<std::size_t>(c)).inverse();
+    // Cube axis a is frame axis fa[a] (sign sa[a]).
+    std::array<int, 3> fa{}, sa{};
+    for (int a = 0; a < 3; ++a)
+      for (int f = 0; f < 3; ++f)
+        if (to_cube.P[a][f] != 0) fa[a] = f, sa[a] = to_cube.P[a][f];
+    for (const Block& b : blocks[i]) {
+      Block o;
+      o.pillow = b.pillow;
+      for (int a = 0; a < 3; ++a) {
+        o.elements[static_cast<std::size_t>(a)] = b.elements[static_cast<std::size_t>(fa[a])];
+        for (int side = 0; side < 2; ++side)
+          o.boundary[static_cast<std::size_t>(2 * a + side)] = b.boundary[static_cast<std::size_t>(2 * fa[a] + (sa[a] > 0 ? side : 1 - side))];
+      }
+      for (int j = 0; j < 8; ++j) {
+        int from = 0;
+        for (int a = 0; a < 3; ++a) {
+          const int bit = (j >> a) & 1;
+          from |= (sa[a] > 0 ? bit : 1 - bit) << fa[a];
+        }
+        o.corners[static_cast<std::size_t>(j)] = to_cube(bc.to_frame(static_cast<int>(i), b.corners[static_cast<std::size_t>(from)]));
+      }
+      if (!o.pillow) {
+        cores[static_cast<std::size_t>(c)].push_back(o);
+        continue;
+      }
+      int f = 0;
+      while (!o.boundary[static_cast<std::size_t>(f)]) ++f;
+      slabs[static_cast<std::size_t>(c)].push_back(o), slab_face[static_cast<std::size_t>(c)].push_back(f);
+    }
+  }
+  std::vector<std::vector<Block>> out(frame.size());
+  for (std::size_t c = 0; c < frame.size(); ++c) {
+    out[c] = cores[c];
+    std::vector<std::size_t> order(slabs[c].size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return slab_face[c][x] < slab_face[c][y]; });
+    for (const std::size_t i : order) out[c].push_back(slabs[c][i]);
+  }
+  return out;
+}
+
 }  // namespace volts::tmesh

@@ -121,6 +121,21 @@ struct BoxComplex {
 /// outside its box or cuts not one per box.
 BoxComplex box_complex(const BoxLayout& layout, const std::vector<std::array<std::vector<double>, 3>>& cuts = {});
 
+/// The complex laid out in one frame: per cube, the map from its parameters to the frame (cube 0's
+/// parameters are the frame), found along the gluings; a gluing that closes a cycle with a
+/// translation (a ring) becomes a closure. `layout` gets the cubes' boxes and the closures.
+/// Throws core::TopologyError if the complex is not connected, a cycle closes with a turn (no
+/// single frame holds it) or two cubes overlap in the frame.
+std::vector<AxisMap> develop(const CubeComplex& k, BoxLayout& layout);
+
+/// complex_blocks' blocks of a BoxComplex of develop()'s layout, given per cube of `k` (a layout
+/// box) in that cube's own parameters and axes (`frame`: develop's maps): corners through the
+/// frame, renumbered so that block axis d is cube axis d, element counts and surface flags
+/// permuted alike; per cube the cores of its sub-boxes first, then their slabs by face. With one
+/// sub-box per cube this is complex_blocks(k, ...) itself, to rounding.
+std::vector<std::vector<Block>> blocks_in_cubes(const BoxComplex& bc, const std::vector<AxisMap>& frame,
+                                                const std::vector<std::vector<Block>>& blocks);
+
 /// The cube holding the point x given in cube c's parameters (it may lie outside [0,1]^3 by less
 /// than one cube): the point is carried across glued faces until every coordinate is in [0,1]
 /// (within `tol`, then clamped). nullopt if it leaves the solid through a surface face.

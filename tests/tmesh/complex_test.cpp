@@ -395,3 +395,70 @@ TEST(BoxComplex, BadLayoutsAreRefusedNamingTheBoxes) {
   L.boxes = {{Vec3{0, 0, 0}, Vec3{0, 1, 1}}};
   EXPECT_THROW(tmesh::box_complex(L), core::TopologyError);  // empty
 }
+
+namespace {
+
+// Two rings of four cubes and a connector cube between them in frames turned against each other
+// (the eight's and the rod's complex): ring 0 cubes 0-3, ring 1 cubes 4-7, the connector 8 on
+// ring 0 cube 0's face b = 1 and ring 1 cube 4's face b = 0.
+tmesh::CubeComplex two_rings_and_a_connector() {
+  tmesh::CubeComplex k;
+  k.glue.resize(9);
+  for (int r = 0; r < 2; ++r)
+    for (int i = 0; i < 4; ++i) tmesh::glue_faces(k, 4 * r + i, 1, 4 * r + (i + 1) % 4, 0, shift(-1, 0, 0));
+  AxisMap to_connector;  // ring 0 cube 0 (A, B, C) -> connector (a, b, c) = (B - 1, C, A)
+  to_connector.P = {{{0, 1, 0}, {0, 0, 1}, {1, 0, 0}}};
+  to_connector.t = {-1, 0, 0};
+  tmesh::glue_faces(k, 0, 3, 8, 0, to_connector);
+  AxisMap to_ring1;  // connector (a, b, c) -> ring 1 cube 4 (A, B, C) = (c, a - 1, b)
+  to_ring1.P = {{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}};
+  to_ring1.t = {0, -1, 0};
+  tmesh::glue_faces(k, 8, 1, 4, 2, to_ring1);
+  return k;
+}
+
+}  // namespace
+
+TEST(BoxComplex, DevelopedComplexGivesTheSameBlocksInEachCubesParameters) {
+  std::vector<AxisMap> unused;
+  AxisMap turned;
+  turned.P = {{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}};
+  turned.t = {-1, 0, 0};
+  AxisMap quarter;  // a quarter turn about c: cube 3's (a, b, c) = (1 - b, a, c - 1) of cube 1
+  quarter.P = {{{0, -1, 0}, {1, 0, 0}, {0, 0, 1}}};
+  quarter.t = {1, 0, -1};
+  for (const tmesh::CubeComplex& k : {t_junction(turned, unused), t_junction(quarter, unused), two_rings_and_a_connector()}) {
+    SCOPED_TRACE(std::to_string(k.glue.size()) + " cubes");
+    tmesh::BoxLayout L;
+    const std::vector<AxisMap> frame = tmesh::develop(k, L);
+    ASSERT_EQ(L.boxes.size(), k.glue.size());
+    const tmesh::BoxComplex bc = tmesh::box_complex(L);
+    ASSERT_EQ(bc.extent.size(), k.glue.size());  // unit cubes meeting in whole faces: nothing to cut
+    const auto in_frame = tmesh::complex_blocks(bc.complex, std::vector<std::array<int, 3>>(bc.extent.size(), {8, 8, 8}), 1, bc.pillow(0.1));
+    const auto got = tmesh::blocks_in_cubes(bc, frame, in_frame), want = tmesh::complex_blocks(k, 8, 1);
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t c = 0; c < want.size(); ++c) {
+      ASSERT_EQ(got[c].size(), want[c].size()) << "cube " << c;
+      for (std::size_t b = 0; b < want[c].size(); ++b) {
+        EXPECT_EQ(got[c][b].pillow, want[c][b].pillow);
+        EXPECT_EQ(got[c][b].elements, want[c][b].elements);
+        EXPECT_EQ(got[c][b].boundary, want[c][b].boundary) << "cube " << c << " block " << b;
+        for (int i = 0; i < 8; ++i)
+          for (int d = 0; d < 3; ++d) EXPECT_NEAR(got[c][b].corners[i][d], want[c][b].corners[i][d], 1e-12) << "cube " << c << " block " << b;
+      }
+    }
+  }
+  // The two rings become two closures (each ring cut open at one gluing).
+  tmesh::BoxLayout L;
+  tmesh::develop(two_rings_and_a_connector(), L);
+  EXPECT_EQ(L.closures.size(), 2u);
+  // A ring closed with a turn has no single frame.
+  tmesh::CubeComplex twisted;
+  twisted.glue.resize(4);
+  for (int i = 0; i < 3; ++i) tmesh::glue_faces(twisted, i, 1, i + 1, 0, shift(-1, 0, 0));
+  AxisMap turn;
+  turn.P = {{{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}};
+  turn.t = {-1, 1, 0};
+  tmesh::glue_faces(twisted, 3, 1, 0, 0, turn);
+  EXPECT_THROW(tmesh::develop(twisted, L), core::TopologyError);
+}
