@@ -83,6 +83,16 @@ class Spline {
   std::size_t size() const { return elements_.size(); }
 
   bezier::BezierHex hex(std::size_t e) const {
+    const int p = blocks_[static_cast<std::size_t>(elements_[e].block)].degree;
+    bezier::BezierHex h;
+    h.degree = {p, p, p};
+    hex_points(e, h.points);
+    return h;
+  }
+
+  // The Bézier points of element e (hex(e).points) into `out`, reusing its storage: the joint
+  // rounds ask for them millions of times.
+  void hex_points(std::size_t e, std::vector<Eigen::Vector3d>& out) const {
     const Element& el = elements_[e];
     const TMesh& t = blocks_[static_cast<std::size_t>(el.block)];
     const int p = t.degree;
@@ -90,9 +100,6 @@ class Spline {
     const Eigen::MatrixXd& Cu = C[0][static_cast<std::size_t>(el.e[0])];
     const Eigen::MatrixXd& Cv = C[1][static_cast<std::size_t>(el.e[1])];
     const Eigen::MatrixXd& Cw = C[2][static_cast<std::size_t>(el.e[2])];
-    bezier::BezierHex h;
-    h.degree = {p, p, p};
-    h.points.assign(static_cast<std::size_t>(h.num_points()), Eigen::Vector3d::Zero());
     // Bézier points = (Cu ⊗ Cv ⊗ Cw)ᵀ P, one direction at a time.
     const int n = p + 1;
     thread_local std::vector<Eigen::Vector3d> P, Q;  // scratch: hex() runs for every element a node supports
@@ -115,8 +122,7 @@ class Spline {
     apply(Cu, 1, P, Q);
     apply(Cv, n, Q, P);
     apply(Cw, n * n, P, Q);
-    for (std::size_t i = 0; i < Q.size(); ++i) h.points[i] = Q[i];
-    return h;
+    out.assign(Q.begin(), Q.end());
   }
 
   // The transpose of hex(e): given d/dQ of the element's Bézier points (index i + n(j + nk)),
@@ -630,10 +636,11 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       set_all(x);
       pool.for_each(els.size(), [&](std::size_t k) {
         const std::size_t e = static_cast<std::size_t>(els[k]);
-        const bezier::BezierHex h = s.hex(e);
+        thread_local std::vector<Eigen::Vector3d> points;
+        s.hex_points(e, points);
         std::vector<Eigen::Matrix3d>& J = dsj[k];  // the Jacobians, then (gradient pass) ∂SJ/∂J
         J.clear();
-        for (const GridAxis& g : *grids_of[k]) grid_jacobians(h.points, g, J);
+        for (const GridAxis& g : *grids_of[k]) grid_jacobians(points, g, J);
         sj[k].resize(J.size());
         for (std::size_t i = 0; i < J.size(); ++i) sj[k][i] = bezier::scaled_jacobian(J[i]);
       });
