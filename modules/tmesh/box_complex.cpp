@@ -201,17 +201,6 @@ BoxComplex box_complex(const BoxLayout& layout, const std::vector<std::array<std
 
 namespace {
 
-AxisMap compose(const AxisMap& outer, const AxisMap& inner) {
-  AxisMap m;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      m.P[i][j] = 0;
-      for (int l = 0; l < 3; ++l) m.P[i][j] += outer.P[i][l] * inner.P[l][j];
-    }
-  m.t = outer(inner.t);
-  return m;
-}
-
 std::array<Vec3, 2> image_box(const AxisMap& m) {
   std::array<Vec3, 2> b{m(Vec3{0, 0, 0}), m(Vec3{0, 0, 0})};
   for (int i = 1; i < 8; ++i) {

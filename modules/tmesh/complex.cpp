@@ -21,6 +21,17 @@ Vec3 AxisMap::operator()(const Vec3& x) const {
   return y;
 }
 
+AxisMap compose(const AxisMap& outer, const AxisMap& inner) {
+  AxisMap m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      m.P[i][j] = 0;
+      for (int l = 0; l < 3; ++l) m.P[i][j] += outer.P[i][l] * inner.P[l][j];
+    }
+  m.t = outer(inner.t);
+  return m;
+}
+
 AxisMap AxisMap::inverse() const {
   AxisMap m;
   for (int i = 0; i < 3; ++i)
@@ -93,15 +104,7 @@ std::array<int, 3> inner_direction(const CubeComplex& k, int c, const std::array
       const int face = 2 * axis + (w[axis] > 0 ? 1 : 0);
       const auto& g = k.glue[oct[o].cube][face];
       if (!g) continue;  // a surface face: not reached from here (perhaps from another octant)
-      AxisMap m;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          m.P[i][j] = 0;
-          for (int l = 0; l < 3; ++l) m.P[i][j] += g->map.P[i][l] * oct[o].map.P[l][j];
-        }
-      const Vec3 t = g->map(oct[o].map.t);
-      m.t = t;
-      oct[o2] = {true, g->cube, m};
+      oct[o2] = {true, g->cube, compose(g->map, oct[o].map)};
       seen[o2] = true;
       queue[tail++] = o2;
     }

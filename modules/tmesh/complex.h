@@ -37,6 +37,9 @@ struct AxisMap {
   AxisMap inverse() const;
 };
 
+/// outer ∘ inner.
+AxisMap compose(const AxisMap& outer, const AxisMap& inner);
+
 /// Cubes glued face to face. glue[c][f] (face f = 2·axis + side of cube c): the neighbouring cube,
 /// its face, and the map from c's parameters to the neighbour's (it takes face f onto that face and
 /// c's outward normal there to the neighbour's inward one); none: f lies on the surface.

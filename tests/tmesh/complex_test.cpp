@@ -266,6 +266,19 @@ TEST(CubeComplex, BadInputIsRejected) {
   EXPECT_THROW(tmesh::glue_faces(k, 0, 1, 1, 0, shift(0, 0, 0)), core::TopologyError);
   tmesh::glue_faces(k, 0, 1, 1, 0, shift(-1, 0, 0));
   EXPECT_THROW(tmesh::glue_faces(k, 0, 1, 1, 0, shift(-1, 0, 0)), core::TopologyError);
+  // Per-cube counts and thicknesses: glued faces must agree along their shared axes (b here).
+  const std::vector<std::array<double, 3>> p(2, {0.1, 0.1, 0.1});
+  try {
+    tmesh::complex_blocks(k, {{8, 8, 8}, {8, 6, 8}}, 1, p);
+    ADD_FAILURE() << "counts that differ across a glued face accepted";
+  } catch (const core::TopologyError& e) {
+    EXPECT_NE(std::string(e.what()).find("cube 0 face 1 has 8 elements along axis 1"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(tmesh::complex_blocks(k, {{8, 8, 8}, {3, 8, 8}}, 1, p));  // along a, across the face: free
+  EXPECT_EQ(tmesh::element_counts(k, {{8, 8, 8}, {3, 6, 9}}), (std::vector<std::array<int, 3>>{{8, 8, 9}, {3, 8, 9}}));
+  EXPECT_THROW(tmesh::complex_blocks(k, {{8, 8, 8}, {8, 8, 8}}, 1, {{0.1, 0.1, 0.1}, {0.1, 0.5, 0.1}}), core::ConfigError);
+  EXPECT_THROW(tmesh::complex_blocks(k, {{8, 8, 8}}, 1, p), core::ConfigError);
+  EXPECT_THROW(tmesh::element_counts(k, {{8, 8, 8}, {8, 0, 8}}), core::ConfigError);
 }
 
 // ------------------------------------------------------------------------------------------------
