@@ -204,6 +204,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("hole", c.split.hole, {"auto", "torus", "difference"});
     s.get("genus2", c.split.genus2, {"auto", "disk", "connector"});
     s.get("connector_cut", c.split.connector_cut, 0.05, 0.95);
+    s.get("connector_end", c.split.connector_end, {"level", "shoulder"});
     s.finish();
   }
   {
@@ -378,7 +379,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "torus_cubes" << YAML::Value << c.split.torus_cubes;
   e << YAML::Key << "hole" << YAML::Value << c.split.hole;
   e << YAML::Key << "genus2" << YAML::Value << c.split.genus2;
-  e << YAML::Key << "connector_cut" << YAML::Value << c.split.connector_cut << YAML::EndMap;
+  e << YAML::Key << "connector_cut" << YAML::Value << c.split.connector_cut;
+  e << YAML::Key << "connector_end" << YAML::Value << c.split.connector_end << YAML::EndMap;
   e << YAML::Key << "polycube" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "weights" << YAML::Value << c.polycube.weights;
   e << YAML::Key << "tet_max_volume_rel" << YAML::Value << c.polycube.tet_max_volume_rel;

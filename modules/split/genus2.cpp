@@ -14,6 +14,7 @@
 
 #include <Eigen/Dense>
 
+#include "classify/classify.h"
 #include "core/errors.h"
 #include "core/log.h"
 #include "split/isoline.h"
@@ -189,8 +190,71 @@ bool neck_side_isolines(Submesh& N, const std::vector<char>& neck_faces, const s
 
 }  // namespace
 
-Decomposition split_two_tori(const Mesh& input, const Params& prm) {
+// The loop of a shoulder (split.connector_end: shoulder): the two concave sharp curves across the
+// neck nearest the cut level `end` on the waist's side (f nearly constant along each: a face
+// across the neck meets a thinner part there), joined at their ends by shortest edge paths
+// across the smooth sides. Empty if there are not two such curves or the paths fail.
+std::vector<int> shoulder_loop(const Mesh& mesh, const std::vector<double>& f, double waist, double end, const classify::Classification& c) {
+  const double span = std::abs(end - waist);
+  auto concave = [&](int a, int b) {
+    const auto h = mesh.halfedge(Mesh::Vertex_index(a), Mesh::Vertex_index(b));
+    if (h == Mesh::null_halfedge()) return false;
+    const auto p = [&](Mesh::Vertex_index v) { return mesh.point(v); };
+    const auto x = mesh.target(mesh.next(h)), y = mesh.target(mesh.next(mesh.opposite(h)));
+    // y above the plane of the face (a, b, x) on its outward side: the edge is concave.
+    return CGAL::orientation(p(Mesh::Vertex_index(a)), p(Mesh::Vertex_index(b)), p(x), p(y)) == CGAL::POSITIVE;
+  };
+  struct Candidate {
+    double mean = 0;
+    const classify::Curve* curve = nullptr;
+  };
+  std::vector<Candidate> found;
+  for (const auto& k : c.curves) {
+    if (k.closed || k.vertices.size() < 2) continue;
+    double lo = HUGE_VAL, hi = -HUGE_VAL, sum = 0;
+    for (const int v : k.vertices) lo = std::min(lo, f[static_cast<std::size_t>(v)]), hi = std::max(hi, f[static_cast<std::size_t>(v)]), sum += f[static_cast<std::size_t>(v)];
+    const double mean = sum / k.vertices.size();
+    // Across the neck near the cut: on the neck's side of the saddle beyond it, within a fifth of
+    // the waist-to-cut distance of the cut level.
+    const bool between = std::abs(mean - end) < 0.2 * span && (end > waist ? lo > waist : hi < waist);
+    int concave_edges = 0;
+    for (std::size_t i = 0; i + 1 < k.vertices.size(); ++i) concave_edges += concave(k.vertices[i], k.vertices[i + 1]);
+    core::log_verbose("split: shoulder? curve of " + std::to_string(k.vertices.size()) + " vertices, f " + std::to_string(lo) + ".." + std::to_string(hi) +
+                      " (waist " + std::to_string(waist) + ", end " + std::to_string(end) + "), " + std::to_string(concave_edges) + " concave edges");
+    if (!between || hi - lo > 0.15 * span) continue;
+    if (2 * concave_edges <= static_cast<int>(k.vertices.size()) - 1) continue;
+    found.push_back({mean, &k});
+  }
+  if (found.size() < 2) return {};
+  std::sort(found.begin(), found.end(), [&](const Candidate& x, const Candidate& y) { return std::abs(x.mean - end) < std::abs(y.mean - end); });
+  const auto& A = found[0].curve->vertices;
+  const auto& B = found[1].curve->vertices;
+  auto pos = [&](int v) {
+    const auto& q = mesh.point(Mesh::Vertex_index(v));
+    return Eigen::Vector3d(q.x(), q.y(), q.z());
+  };
+  // B runs from the end nearest A's last vertex.
+  std::vector<int> b = B;
+  if ((pos(A.back()) - pos(b.back())).norm() < (pos(A.back()) - pos(b.front())).norm()) std::reverse(b.begin(), b.end());
+  std::vector<char> blocked(mesh.number_of_vertices(), 0);
+  for (const int v : A) blocked[static_cast<std::size_t>(v)] = 1;
+  for (const int v : b) blocked[static_cast<std::size_t>(v)] = 1;
+  const std::vector<int> p1 = shortest_path(mesh, A.back(), b.front(), blocked);
+  if (p1.empty()) return {};
+  for (const int v : p1) blocked[static_cast<std::size_t>(v)] = 1;
+  const std::vector<int> p2 = shortest_path(mesh, b.back(), A.front(), blocked);
+  if (p2.empty()) return {};
+  std::vector<int> loop = A;
+  loop.insert(loop.end(), p1.begin() + 1, p1.end() - 1);
+  loop.insert(loop.end(), b.begin(), b.end());
+  loop.insert(loop.end(), p2.begin() + 1, p2.end() - 1);
+  return loop;
+}
+
+Decomposition split_two_tori(const Mesh& input, const Params& prm, const classify::Classification* cls) {
   if (!(prm.connector_cut >= 0.05 && prm.connector_cut <= 0.95)) throw core::ConfigError("split.connector_cut must be in [0.05, 0.95]");
+  if (prm.connector_end != "level" && prm.connector_end != "shoulder")
+    throw core::ConfigError("split.connector_end must be 'level' or 'shoulder', not '" + prm.connector_end + "'");
   if (prm.genus2 != "disk" && prm.genus2 != "connector")
     throw core::ConfigError("split.genus2 must be 'auto', 'disk' or 'connector', not '" + prm.genus2 + "'");
   const bool connector = prm.genus2 == "connector";
@@ -223,7 +287,28 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
     levels = {level_between_vertices(level + prm.connector_cut * (lo - level), f), level_between_vertices(level + prm.connector_cut * (hi - level), f)};
   }
   std::vector<std::vector<int>> cut_loops;
-  for (const double c : levels) cut_loops.push_back(separating_loop(mesh, f, c, cut_loops));
+  std::vector<double> loop_level;  // the field's level of each cut (a shoulder's: its mean)
+  for (const double c : levels) {
+    if (connector && prm.connector_end == "shoulder") {
+      if (!cls) throw std::logic_error("split: shoulder ends need the classification");
+      std::vector<int> loop = shoulder_loop(mesh, f, level, c, *cls);
+      if (!loop.empty()) {
+        auto loops = cut_loops;
+        loops.push_back(loop);
+        const auto label = regions_cut_by(mesh, loops);
+        if (*std::max_element(label.begin(), label.end()) == static_cast<int>(loops.size())) {
+          core::log("split: a connector end lies on a shoulder (" + std::to_string(loop.size()) + " vertices)");
+          double mean = 0;
+          for (const int v : loop) mean += f[static_cast<std::size_t>(v)];
+          loop_level.push_back(mean / loop.size());
+          cut_loops.push_back(loop);
+          continue;
+        }
+      }
+    }
+    cut_loops.push_back(separating_loop(mesh, f, c, cut_loops));
+    loop_level.push_back(c);
+  }
   const auto region = regions_cut_by(mesh, cut_loops);
   // Regions: ring 0 (genus 1), [the neck], ring 1; ring i has cut_loops[i ? last : 0] as its rim.
   const int n_regions = static_cast<int>(cut_loops.size()) + 1;
@@ -312,12 +397,14 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm) {
   std::array<std::array<int, 4>, 2> disk_corners{};  // layout ids
   for (int i = 0; i < 2; ++i) {
     Submesh& T = torus[i];
-    const double ring_level = connector ? levels[static_cast<std::size_t>(std::find(cut_loops.begin(), cut_loops.end(), rim[i]) - cut_loops.begin())] : level;
+    const double ring_level = connector ? loop_level[static_cast<std::size_t>(std::find(cut_loops.begin(), cut_loops.end(), rim[i]) - cut_loops.begin())] : level;
     // The first field on this torus (the disk at its rim's level), and a meridian: a level set
     // between two saddles on this side that does not separate the closed torus.
     std::vector<double> g(T.mesh.number_of_vertices());
     for (std::size_t v = 0; v < g.size(); ++v) g[v] = T.layout_vertex[v] < n_input ? f[T.layout_vertex[v]] : ring_level;
-    const bool below = *std::min_element(g.begin(), g.end()) < ring_level;
+    // This torus lies below its rim's level if it reaches further below than above (a shoulder's
+    // rim is not one level).
+    const bool below = ring_level - *std::min_element(g.begin(), g.end()) > *std::max_element(g.begin(), g.end()) - ring_level;
     std::vector<int> meridian;
     for (const auto& [w, c] : gaps) {
       if ((c < ring_level) != below) continue;

@@ -128,18 +128,18 @@ Decomposition split(const surface::Mesh& mesh, const classify::Classification& c
     return d;
   }
   if (c.genus == 2) {
-    if (params.genus2 != "auto") return detail::split_two_tori(mesh, params);
+    if (params.genus2 != "auto") return detail::split_two_tori(mesh, params, &c);
     Params p = params;
     p.genus2 = "connector";
     try {
-      return detail::split_two_tori(mesh, p);
+      return detail::split_two_tori(mesh, p, &c);
     } catch (const core::TopologyError& e) {
       core::log_warning(std::string("split: no connector cube between the two tori (") + e.what() +
                         "); they meet on the waist's disk instead, which is not a conforming interface (split.genus2: disk). "
                         "Cuts nearer the holes may let the neck be cut: split.connector_cut, e.g. 0.85 where a shank runs to its eyes (examples/rod.yaml)");
     }
     p.genus2 = "disk";
-    return detail::split_two_tori(mesh, p);
+    return detail::split_two_tori(mesh, p, &c);
   }
   std::ostringstream s;
   s << "split: genus " << c.genus << " (" << c.patches << " patches, " << c.curves.size() << " curves, " << c.corners.size()

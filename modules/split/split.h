@@ -50,6 +50,10 @@ struct Params {
   /// connector: its ends lie this fraction of the way from the waist to the saddle at each hole
   /// (level sets of the first harmonic field) [0.05, 0.95]
   double connector_cut = 0.5;
+  /// connector: where its ends lie — "level" (the level sets above) or "shoulder" (work in
+  /// progress: each end on the concave sharp curves of a shoulder between the cut and the waist,
+  /// joined across the smooth sides; the rod's small end)
+  std::string connector_end = "level";
 };
 
 enum class ComponentType { cube, torus_cube, virtual_component };

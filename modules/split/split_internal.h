@@ -55,7 +55,7 @@ Decomposition split_torus(const surface::Mesh& mesh, const std::set<Edge>& sharp
                           DiskPatch* disk = nullptr);
 
 /// A genus-2 surface as two tori that meet on a disk filling their separating loop.
-Decomposition split_two_tori(const surface::Mesh& mesh, const Params& params);
+Decomposition split_two_tori(const surface::Mesh& mesh, const Params& params, const classify::Classification* c = nullptr);
 
 /// A genus-1 surface with sharp corners whose through hole is bounded by difference curves: a
 /// cube minus a virtual component.
