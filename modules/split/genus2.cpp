@@ -219,8 +219,6 @@ std::vector<int> shoulder_loop(const Mesh& mesh, const std::vector<double>& f, d
     const bool between = std::abs(mean - end) < 0.2 * span && (end > waist ? lo > waist : hi < waist);
     int concave_edges = 0;
     for (std::size_t i = 0; i + 1 < k.vertices.size(); ++i) concave_edges += concave(k.vertices[i], k.vertices[i + 1]);
-    core::log_verbose("split: shoulder? curve of " + std::to_string(k.vertices.size()) + " vertices, f " + std::to_string(lo) + ".." + std::to_string(hi) +
-                      " (waist " + std::to_string(waist) + ", end " + std::to_string(end) + "), " + std::to_string(concave_edges) + " concave edges");
     if (!between || hi - lo > 0.15 * span) continue;
     if (2 * concave_edges <= static_cast<int>(k.vertices.size()) - 1) continue;
     found.push_back({mean, &k});

@@ -411,6 +411,47 @@ TEST(Split, RodCutNearItsEyesIsTwoToriAndAConnectorWhoseSurfacesDoNotCrossThemse
   }
 }
 
+// split.connector_end: shoulder (work in progress, docs/status.md "Session 20"): the rod's small
+// end is cut along the shoulder's two concave sharp curves (where the shank, z in [0.094, 0.228],
+// ends at x ~ 0.826 on the thinner eye, z in [0.129, 0.192]) and across the sides between them,
+// so its disk is the eye's cross section in the shoulder's plane; the level set at 0.85 crosses
+// the shoulder obliquely.
+TEST(Split, RodConnectorEndsOnTheShoulderOfItsSmallEye) {
+  split::Params p;
+  p.connector_cut = 0.85;
+  auto small_fill = [](const split::Decomposition& d) {
+    std::array<double, 4> r{1e9, -1e9, 1e9, -1e9};  // x range, z range of the fill at x > 0.5
+    for (std::size_t t = 0; t < d.layout.triangles.size(); ++t) {
+      if (!d.layout.filled[t]) continue;
+      for (const int v : d.layout.triangles[t]) {
+        const auto& x = d.layout.points[static_cast<std::size_t>(v)];
+        if (x[0] < 0.5) continue;
+        r[0] = std::min(r[0], x[0]), r[1] = std::max(r[1], x[0]), r[2] = std::min(r[2], x[2]), r[3] = std::max(r[3], x[2]);
+      }
+    }
+    return r;
+  };
+  const auto level = small_fill(run_split(shared("loopycuts_rod_rem.obj"), p));
+  EXPECT_GT(level[1] - level[0], 0.01);
+  p.connector_end = "shoulder";
+  const auto rod = run_split(shared("loopycuts_rod_rem.obj"), p);
+  EXPECT_EQ(rod.genus2, "connector");
+  check_decomposition(rod);
+  ASSERT_EQ(rod.components.size(), 9u);
+  for (const auto& m : primitive_surfaces(rod)) EXPECT_FALSE(CGAL::Polygon_mesh_processing::does_self_intersect(m));
+  const auto shoulder = small_fill(rod);
+  EXPECT_GT(shoulder[0], 0.824);
+  EXPECT_LT(shoulder[1], 0.829);
+  EXPECT_GT(shoulder[2], 0.125);  // the eye's cross section, not the shank's
+  EXPECT_LT(shoulder[3], 0.197);
+  // The eight has no shoulder: its ends stay on the level sets (the same decomposition).
+  split::Params q;
+  q.connector_end = "shoulder";
+  EXPECT_EQ(run_split(shared("cfwen_eight.off")).layout.points, run_split(shared("cfwen_eight.off"), q).layout.points);
+  p.connector_end = "elsewhere";
+  EXPECT_THROW(run_split(shared("cfwen_eight.off"), p), core::ConfigError);
+}
+
 TEST(Split, EightWithAConnectorIsTwoToriAndANeckCubeOnTheirDisks) {
   // split.genus2: connector (Liu et al. §6): the neck between two cut levels is one cube whose
   // ends are the tori's disks, each a whole patch of its torus.
