@@ -242,10 +242,16 @@ std::vector<int> shoulder_loop(const Mesh& mesh, const std::vector<double>& f, d
   for (const int v : p1) blocked[static_cast<std::size_t>(v)] = 1;
   const std::vector<int> p2 = shortest_path(mesh, b.back(), A.front(), blocked);
   if (p2.empty()) return {};
-  std::vector<int> loop = A;
-  loop.insert(loop.end(), p1.begin() + 1, p1.end() - 1);
-  loop.insert(loop.end(), b.begin(), b.end());
-  loop.insert(loop.end(), p2.begin() + 1, p2.end() - 1);
+  // A, the path to B, B, the path back; a vertex the pieces share once (curves that meet).
+  std::vector<int> loop;
+  const std::vector<int>* pieces[] = {&A, &p1, &b, &p2};
+  for (const std::vector<int>* piece : pieces)
+    for (const int v : *piece)
+      if (loop.empty() || loop.back() != v) loop.push_back(v);
+  if (loop.size() > 1 && loop.back() == loop.front()) loop.pop_back();
+  std::vector<int> sorted = loop;
+  std::sort(sorted.begin(), sorted.end());
+  if (loop.size() < 3 || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return {};  // not a simple loop
   return loop;
 }
 
