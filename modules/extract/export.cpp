@@ -199,7 +199,9 @@ void write_bezier_json(const std::string& path, const Result& r) {
   const GlobalBasis& g = r.basis;
   // Keys in nlohmann's order (sorted), as core::write_stage_file writes them.
   std::string out;
-  out.reserve(64 * g.elements.size() * 24 + 64 * g.points.size());
+  std::size_t nonzeros = 0;
+  for (const auto& el : g.elements) nonzeros += static_cast<std::size_t>(el.op.nonZeros());
+  out.reserve(32 * nonzeros + 64 * g.points.size() + 512 * g.elements.size());  // ~25 characters a triplet
   out += "{\"bernstein_order\":\"i + (p+1)*(j + (p+1)*k), as BezierHex and the .bext\",\"elements\":[";
   for (std::size_t e = 0; e < g.elements.size(); ++e) {
     const auto& el = g.elements[e];

@@ -61,14 +61,18 @@ bool find_waist(const Mesh& m, const std::vector<double>& f, double c, std::vect
   return false;
 }
 
+// True if `loop` with the other cuts cuts the surface into one more region than there are cuts.
+bool adds_a_region(const Mesh& mesh, const std::vector<int>& loop, const std::vector<std::vector<int>>& other) {
+  auto loops = other;
+  loops.push_back(loop);
+  const auto label = regions_cut_by(mesh, loops);
+  return *std::max_element(label.begin(), label.end()) == static_cast<int>(loops.size());
+}
+
 // The loop of {f = c} (inserted) that has genus-1 regions on both sides, given the other cuts.
 std::vector<int> separating_loop(Mesh& mesh, std::vector<double>& f, double c, const std::vector<std::vector<int>>& other) {
-  for (const auto& loop : insert_isoline(mesh, f, c)) {
-    auto loops = other;
-    loops.push_back(loop);
-    const auto label = regions_cut_by(mesh, loops);
-    if (*std::max_element(label.begin(), label.end()) == static_cast<int>(loops.size())) return loop;
-  }
+  for (const auto& loop : insert_isoline(mesh, f, c))
+    if (adds_a_region(mesh, loop, other)) return loop;
   throw std::logic_error("split: a waist loop vanished on insertion");
 }
 
@@ -296,18 +300,13 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
     if (connector && prm.connector_end == "shoulder") {
       if (!cls) throw std::logic_error("split: shoulder ends need the classification");
       std::vector<int> loop = shoulder_loop(mesh, f, level, c, *cls);
-      if (!loop.empty()) {
-        auto loops = cut_loops;
-        loops.push_back(loop);
-        const auto label = regions_cut_by(mesh, loops);
-        if (*std::max_element(label.begin(), label.end()) == static_cast<int>(loops.size())) {
-          core::log("split: a connector end lies on a shoulder (" + std::to_string(loop.size()) + " vertices)");
-          double mean = 0;
-          for (const int v : loop) mean += f[static_cast<std::size_t>(v)];
-          loop_level.push_back(mean / loop.size());
-          cut_loops.push_back(loop);
-          continue;
-        }
+      if (!loop.empty() && adds_a_region(mesh, loop, cut_loops)) {
+        core::log("split: a connector end lies on a shoulder (" + std::to_string(loop.size()) + " vertices)");
+        double mean = 0;
+        for (const int v : loop) mean += f[static_cast<std::size_t>(v)];
+        loop_level.push_back(mean / loop.size());
+        cut_loops.push_back(loop);
+        continue;
       }
     }
     cut_loops.push_back(separating_loop(mesh, f, c, cut_loops));
