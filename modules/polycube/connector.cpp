@@ -23,6 +23,10 @@ ConnectorMap map_connector(const Ring& piece, const Ring& ring0, const PatchMapP
   const std::set<int> ring0_triangles(ring0.layout_triangle.begin(), ring0.layout_triangle.end());
   std::array<int, 2> end{-1, -1};
   for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (faces[f].patches.size() == 3)
+      throw core::TopologyError(who + " ends on a shoulder with a face of three patches (its disk and the shoulder's two faces, "
+                                "split.connector_end: shoulder): mapping that face as three strips is not implemented yet "
+                                "(docs/status.md, Session 21); use split.connector_end: level");
     if (faces[f].patches.size() != 1) throw core::TopologyError(who + " has a face of " + std::to_string(faces[f].patches.size()) + " patches");
     const auto& tris = L.patches.at(static_cast<std::size_t>(faces[f].patches[0])).triangles;
     if (tris.empty() || !L.filled.at(static_cast<std::size_t>(tris[0]))) continue;

@@ -4,6 +4,7 @@
 // closed torus is split into a ring of cubes whose cuts avoid the disk, so the disk lies inside one
 // patch of each torus (the faces the two primitives are united on).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -194,11 +195,21 @@ bool neck_side_isolines(Submesh& N, const std::vector<char>& neck_faces, const s
 
 }  // namespace
 
+// A connector end on a shoulder: the cut loop and the two concave sharp curves it runs along,
+// each with the other sharp curve of its shoulder face (`convex[k]`, from concave[k]'s first
+// vertex to its last, or empty): the rod's shoulder faces are lenses bounded by two curves with
+// the same ends (the shank's rounded cross section cut by the thinner eye's flat faces).
+struct Shoulder {
+  std::vector<int> loop;
+  std::array<std::vector<int>, 2> concave, convex;
+};
+
 // The loop of a shoulder (split.connector_end: shoulder): the two concave sharp curves across the
 // neck nearest the cut level `end` on the waist's side (f nearly constant along each: a face
 // across the neck meets a thinner part there), joined at their ends by shortest edge paths
-// across the smooth sides. Empty if there are not two such curves or the paths fail.
-std::vector<int> shoulder_loop(const Mesh& mesh, const std::vector<double>& f, double waist, double end, const classify::Classification& c) {
+// across the smooth sides that keep off the shoulder faces' other curves. Empty loop if there are
+// not two such curves or the paths fail.
+Shoulder shoulder_loop(const Mesh& mesh, const std::vector<double>& f, double waist, double end, const classify::Classification& c) {
   const double span = std::abs(end - waist);
   auto concave = [&](int a, int b) {
     const auto h = mesh.halfedge(Mesh::Vertex_index(a), Mesh::Vertex_index(b));
@@ -231,6 +242,24 @@ std::vector<int> shoulder_loop(const Mesh& mesh, const std::vector<double>& f, d
   std::sort(found.begin(), found.end(), [&](const Candidate& x, const Candidate& y) { return std::abs(x.mean - end) < std::abs(y.mean - end); });
   const auto& A = found[0].curve->vertices;
   const auto& B = found[1].curve->vertices;
+  // The other curve of a concave curve's shoulder face: same two ends, one patch in common, at
+  // least two vertices between its ends (room for the end face's corners).
+  auto other_curve = [&](const classify::Curve& k) {
+    for (const auto& o : c.curves) {
+      if (&o == &k || o.closed || o.vertices.size() < 4) continue;
+      const bool same = o.vertices.front() == k.vertices.front() && o.vertices.back() == k.vertices.back();
+      const bool reversed = o.vertices.front() == k.vertices.back() && o.vertices.back() == k.vertices.front();
+      const bool shares = o.patch_left == k.patch_left || o.patch_left == k.patch_right || o.patch_right == k.patch_left || o.patch_right == k.patch_right;
+      if (!(same || reversed) || !shares) continue;
+      std::vector<int> v = o.vertices;
+      if (reversed) std::reverse(v.begin(), v.end());
+      return v;
+    }
+    return std::vector<int>{};
+  };
+  Shoulder sh;
+  sh.concave = {A, B};
+  sh.convex = {other_curve(*found[0].curve), other_curve(*found[1].curve)};
   auto pos = [&](int v) {
     const auto& q = mesh.point(Mesh::Vertex_index(v));
     return Eigen::Vector3d(q.x(), q.y(), q.z());
@@ -241,6 +270,8 @@ std::vector<int> shoulder_loop(const Mesh& mesh, const std::vector<double>& f, d
   std::vector<char> blocked(mesh.number_of_vertices(), 0);
   for (const int v : A) blocked[static_cast<std::size_t>(v)] = 1;
   for (const int v : b) blocked[static_cast<std::size_t>(v)] = 1;
+  for (const auto& k : sh.convex)
+    for (const int v : k) blocked[static_cast<std::size_t>(v)] = 1;
   const std::vector<int> p1 = shortest_path(mesh, A.back(), b.front(), blocked);
   if (p1.empty()) return {};
   for (const int v : p1) blocked[static_cast<std::size_t>(v)] = 1;
@@ -256,7 +287,8 @@ std::vector<int> shoulder_loop(const Mesh& mesh, const std::vector<double>& f, d
   std::vector<int> sorted = loop;
   std::sort(sorted.begin(), sorted.end());
   if (loop.size() < 3 || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return {};  // not a simple loop
-  return loop;
+  sh.loop = std::move(loop);
+  return sh;
 }
 
 Decomposition split_two_tori(const Mesh& input, const Params& prm, const classify::Classification* cls) {
@@ -296,21 +328,25 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
   }
   std::vector<std::vector<int>> cut_loops;
   std::vector<double> loop_level;  // the field's level of each cut (a shoulder's: its mean)
+  std::vector<Shoulder> shoulders;  // per cut: its shoulder (empty loop for a level set)
   for (const double c : levels) {
     if (connector && prm.connector_end == "shoulder") {
       if (!cls) throw std::logic_error("split: shoulder ends need the classification");
-      std::vector<int> loop = shoulder_loop(mesh, f, level, c, *cls);
+      Shoulder sh = shoulder_loop(mesh, f, level, c, *cls);
+      const std::vector<int>& loop = sh.loop;
       if (!loop.empty() && adds_a_region(mesh, loop, cut_loops)) {
         core::log("split: a connector end lies on a shoulder (" + std::to_string(loop.size()) + " vertices)");
         double mean = 0;
         for (const int v : loop) mean += f[static_cast<std::size_t>(v)];
         loop_level.push_back(mean / loop.size());
         cut_loops.push_back(loop);
+        shoulders.push_back(std::move(sh));
         continue;
       }
     }
     cut_loops.push_back(separating_loop(mesh, f, c, cut_loops));
     loop_level.push_back(c);
+    shoulders.emplace_back();
   }
   const auto region = regions_cut_by(mesh, cut_loops);
   // Regions: ring 0 (genus 1), [the neck], ring 1; ring i has cut_loops[i ? last : 0] as its rim.
@@ -550,10 +586,72 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
       if (N.layout_vertex[v] >= n_input) blocked[v] = 1;  // fill vertices
     for (int i = 0; i < 2; ++i)
       for (int v : rim[i]) blocked[static_cast<std::size_t>(local.at(v))] = 1;
+    // A shoulder end whose faces are lenses (Shoulder::convex): the neck's end face there is its
+    // disk and both lenses (Liu et al. Fig. 13: the shank ends on the eye's cross section and on
+    // the shoulder around it), bounded by the outline (the rim with its concave curves replaced by
+    // the convex ones), its corners on the convex curves; the lenses' ends (the disk's corners,
+    // `tips`) lie inside the end face's sides. Otherwise the end face is the disk.
+    std::array<std::vector<int>, 2> outline = rim;                  // layout ids
+    std::array<std::array<int, 4>, 2> end_corners = disk_corners;  // layout ids, in the outline's order
+    std::array<bool, 2> lensed{false, false};
+    std::set<Edge> lens_cuts;  // the convex curves (local ids)
+    for (int i = 0; i < 2; ++i) {
+      const Shoulder& sh = shoulders[static_cast<std::size_t>(std::find(cut_loops.begin(), cut_loops.end(), rim[i]) - cut_loops.begin())];
+      if (sh.loop.empty() || sh.convex[0].empty() || sh.convex[1].empty()) continue;
+      std::vector<int>& o = outline[i];
+      std::array<std::vector<int>, 2> arcs;
+      for (int k = 0; k < 2; ++k) {
+        const std::vector<int>& a = sh.concave[static_cast<std::size_t>(k)];
+        const std::vector<int>& b = sh.convex[static_cast<std::size_t>(k)];
+        // Rotate the outline to start at a's first vertex, running along a.
+        const auto at = std::find(o.begin(), o.end(), a.front());
+        if (at == o.end()) throw std::logic_error("split: a shoulder's curve is not on its rim");
+        std::rotate(o.begin(), at, o.end());
+        if (o.size() > 1 && o[1] != a[1]) std::reverse(o.begin() + 1, o.end());
+        if (o.size() < a.size() || !std::equal(a.begin(), a.end(), o.begin())) throw std::logic_error("split: a shoulder's rim does not run along its curve");
+        std::vector<int> next(b.begin(), b.end());
+        next.insert(next.end(), o.begin() + static_cast<std::ptrdiff_t>(a.size()), o.end());
+        o = std::move(next);
+        arcs[static_cast<std::size_t>(k)] = b;
+      }
+      // The end face's corners: on each convex curve, the vertices nearest to where a quarter of
+      // the outline's length, centred on the curve, begins and ends (the face's sides about equal).
+      auto point = [&](int v) { return Eigen::Vector3d(L.points[v][0], L.points[v][1], L.points[v][2]); };
+      double total = 0;
+      for (std::size_t k = 0; k < o.size(); ++k) total += (point(o[(k + 1) % o.size()]) - point(o[k])).norm();
+      std::array<std::array<int, 2>, 2> pick{};
+      for (int k = 0; k < 2; ++k) {
+        const std::vector<int>& b = arcs[static_cast<std::size_t>(k)];
+        std::vector<double> s(b.size(), 0.0);
+        for (std::size_t j = 1; j < b.size(); ++j) s[j] = s[j - 1] + (point(b[j]) - point(b[j - 1])).norm();
+        const double s0 = std::max(0.0, 0.5 * (s.back() - 0.25 * total));
+        auto nearest = [&](double x, std::size_t lo, std::size_t hi) {
+          std::size_t best = lo;
+          for (std::size_t j = lo; j <= hi; ++j)
+            if (std::abs(s[j] - x) < std::abs(s[best] - x)) best = j;
+          return best;
+        };
+        const std::size_t j1 = nearest(s0, 1, b.size() - 3), j2 = nearest(s.back() - s0, j1 + 1, b.size() - 2);
+        pick[static_cast<std::size_t>(k)] = {b[j1], b[j2]};
+        for (std::size_t j = 1; j < b.size(); ++j) lens_cuts.insert(edge(local.at(b[j - 1]), local.at(b[j])));
+        for (std::size_t j = 1; j + 1 < b.size(); ++j) blocked[static_cast<std::size_t>(local.at(b[j]))] = 1;
+      }
+      // In the outline's direction that visits the disk's corners in their order.
+      const auto pos = [&](int v) { return std::find(o.begin(), o.end(), v) - o.begin(); };
+      const auto n = static_cast<std::ptrdiff_t>(o.size());
+      const bool forward = ((pos(disk_corners[i][1]) - pos(disk_corners[i][0])) % n + n) % n < ((pos(disk_corners[i][2]) - pos(disk_corners[i][0])) % n + n) % n;
+      std::vector<std::pair<std::ptrdiff_t, int>> order;
+      for (const auto& pk : pick)
+        for (const int v : pk) order.push_back({((forward ? 1 : -1) * (pos(v) - pos(disk_corners[i][0])) % n + n) % n, v});
+      std::sort(order.begin(), order.end());
+      for (int k = 0; k < 4; ++k) end_corners[i][static_cast<std::size_t>(k)] = order[static_cast<std::size_t>(k)].second;
+      lensed[i] = true;
+      core::log("split: the connector's end face holds its disk and the shoulder's two faces (ring " + std::to_string(i) + ")");
+    }
     // Pair the corners in the rotation and direction of least total length.
     std::array<std::array<std::vector<int>, 4>, 4> path;
     for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b) path[a][b] = shortest_path(N.mesh, local.at(disk_corners[0][a]), local.at(disk_corners[1][b]), blocked);
+      for (int b = 0; b < 4; ++b) path[a][b] = shortest_path(N.mesh, local.at(end_corners[0][a]), local.at(end_corners[1][b]), blocked);
     auto length = [&](const std::vector<int>& pth) {
       if (pth.empty()) return std::numeric_limits<double>::infinity();
       double l = 0;
@@ -573,23 +671,50 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
         if (total < best) best = total, pair = pr;
       }
     if (!std::isfinite(best)) throw core::TopologyError("split: the corners of the two disks are not joined across the neck");
-    std::array<std::vector<int>, 2> rim_local;
-    for (int i = 0; i < 2; ++i)
+    std::array<std::vector<int>, 2> rim_local, outline_local;
+    for (int i = 0; i < 2; ++i) {
       for (int v : rim[i]) rim_local[i].push_back(local.at(v));
+      for (int v : outline[i]) outline_local[i].push_back(local.at(v));
+    }
     std::array<std::array<int, 4>, 2> corner_local{};
-    for (int k = 0; k < 4; ++k) corner_local[0][k] = local.at(disk_corners[0][k]), corner_local[1][k] = local.at(disk_corners[1][pair[k]]);
-    std::vector<char> is_corner(static_cast<std::size_t>(nn), 0);
+    for (int k = 0; k < 4; ++k) corner_local[0][k] = local.at(end_corners[0][k]), corner_local[1][k] = local.at(end_corners[1][pair[k]]);
+    std::vector<char> is_corner(static_cast<std::size_t>(nn), 0), is_tip(static_cast<std::size_t>(nn), 0);
     for (int i = 0; i < 2; ++i)
-      for (int k = 0; k < 4; ++k) is_corner[static_cast<std::size_t>(corner_local[i][k])] = 1;
-    std::set<Edge> cuts;
+      for (int k = 0; k < 4; ++k) {
+        is_corner[static_cast<std::size_t>(corner_local[i][k])] = 1;
+        if (lensed[i]) is_tip[static_cast<std::size_t>(local.at(disk_corners[i][k]))] = 1;
+      }
+    std::set<Edge> cuts = lens_cuts;
     for (const auto& loop : rim_local)
       for (std::size_t k = 0; k < loop.size(); ++k) cuts.insert(edge(loop[k], loop[(k + 1) % loop.size()]));
     // The side curves: level sets across the neck, which leave the rims across them; the shortest
     // edge paths of the coarse eight left one corner at 21° to its rim, and that corner's element
-    // could not pass a scaled Jacobian of 0.09 (docs/status.md, session 17).
-    std::vector<char> neck_faces(N.mesh.number_of_faces(), 1);
+    // could not pass a scaled Jacobian of 0.09 (docs/status.md, session 17). Not through the
+    // fills or the lenses (a lens: a region of the rims and convex curves without fill faces,
+    // bounded by a concave curve and its convex one only).
+    std::vector<char> neck_faces(N.mesh.number_of_faces(), 1), lens_face(N.mesh.number_of_faces(), 0);
     for (std::size_t x = 0; x < N.layout_triangle.size(); ++x) neck_faces[x] = all_fill.count(N.layout_triangle[x]) ? 0 : 1;
-    if (!neck_side_isolines(N, neck_faces, rim_local, corner_local, &cuts)) {
+    if (lensed[0] || lensed[1]) {
+      std::set<int> on_lens_curves;  // the convex curves and the rims' concave curves
+      for (const auto& [a, b] : lens_cuts) on_lens_curves.insert(a), on_lens_curves.insert(b);
+      for (int i = 0; i < 2; ++i)
+        if (lensed[i])
+          for (const auto& a : shoulders[static_cast<std::size_t>(std::find(cut_loops.begin(), cut_loops.end(), rim[i]) - cut_loops.begin())].concave)
+            for (const int v : a) on_lens_curves.insert(local.at(v));
+      int lenses = 0;
+      for (const Region& r : regions(N.mesh, cuts, nullptr)) {
+        bool lens = r.loops.size() == 1;
+        for (const int x : r.faces) lens &= neck_faces[static_cast<std::size_t>(x)] == 1;
+        for (const auto& loop : r.loops)
+          for (const int v : loop) lens &= on_lens_curves.count(v) > 0 || is_tip[static_cast<std::size_t>(v)];
+        if (!lens) continue;
+        ++lenses;
+        for (const int x : r.faces) neck_faces[static_cast<std::size_t>(x)] = 0, lens_face[static_cast<std::size_t>(x)] = 1;
+      }
+      if (lenses != 2 * (lensed[0] + lensed[1]))
+        throw core::TopologyError("split: a shoulder's faces are not two lenses between its concave and convex curves (" + std::to_string(lenses) + " found)");
+    }
+    if (!neck_side_isolines(N, neck_faces, outline_local, corner_local, &cuts)) {
       core::log_warning("split: the neck's side level sets are not four curves from disk to disk; using shortest edge paths");
       for (int a = 0; a < 4; ++a) {  // one after the other, each avoiding the ones before
         const std::vector<int> pth = shortest_path(N.mesh, corner_local[0][a], corner_local[1][a], blocked);
@@ -608,12 +733,31 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
     }
     std::vector<int> face_region;
     const auto regs = regions(N.mesh, cuts, &face_region);
-    if (regs.size() != 6) throw core::TopologyError("split: the neck is cut into " + std::to_string(regs.size()) + " patches, not the six faces of a cube");
+    const std::size_t lens_count = 2 * static_cast<std::size_t>(lensed[0] + lensed[1]);
+    if (regs.size() != 6 + lens_count)
+      throw core::TopologyError("split: the neck is cut into " + std::to_string(regs.size()) + " patches, not the six faces of a cube" +
+                                (lens_count ? " with " + std::to_string(lens_count) + " shoulder faces" : std::string()));
     Component C;
     C.type = ComponentType::cube;
     neck_component = static_cast<int>(d.components.size());
+    // A lensed end's disk and lenses have the tips as corners; the side patches pass through them.
+    std::vector<char> with_tips = is_corner;
+    for (std::size_t v = 0; v < is_tip.size(); ++v) with_tips[v] |= is_tip[v];
+    with_tips.resize(N.mesh.number_of_vertices(), 0);
+    std::array<CubeFace, 2> end_face;  // per lensed end: its disk and lenses
     for (std::size_t r = 0; r < regs.size(); ++r) {
-      Patch P = quad_patch(regs[r], is_corner, "neck patch", static_cast<int>(r));
+      const int x0 = regs[r].faces.front();
+      const bool lens = x0 < static_cast<int>(lens_face.size()) && lens_face[static_cast<std::size_t>(x0)];
+      const int lt0 = x0 < static_cast<int>(N.layout_triangle.size()) ? N.layout_triangle[static_cast<std::size_t>(x0)] : -1;
+      const bool fill_region = lt0 >= 0 && all_fill.count(lt0) > 0;
+      const int end = fill_region ? (std::count(fill[0].begin(), fill[0].end(), lt0) ? 0 : 1) : -1;
+      const bool tips = lens || (end >= 0 && lensed[static_cast<std::size_t>(end)]);
+      Patch P = quad_patch(regs[r], tips ? with_tips : is_corner, "neck patch", static_cast<int>(r));
+      int lens_end = -1;
+      if (lens)
+        for (int i = 0; i < 2; ++i)
+          for (const int v : P.corners)
+            if (lensed[i] && std::count(disk_corners[i].begin(), disk_corners[i].end(), N.layout_vertex.at(static_cast<std::size_t>(v)))) lens_end = i;
       bool disk = false;
       for (int& x : P.triangles) {
         // Fill faces are never cut (masked), so they keep their index; other faces may be new.
@@ -639,12 +783,37 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
         const int lt = -1 - P.triangles[0];
         (std::count(fill[0].begin(), fill[0].end(), lt) ? neck_bottom : neck_top) = id;
       }
-      CubeFace F;
-      F.patches = {id};
-      F.corners = P.corners;
-      C.faces.push_back(F);
       C.patches.push_back(id);
+      const int joins = lens ? lens_end : end >= 0 && lensed[static_cast<std::size_t>(end)] ? end : -1;
+      if (joins >= 0) {
+        end_face[static_cast<std::size_t>(joins)].patches.push_back(id);
+      } else {
+        CubeFace F;
+        F.patches = {id};
+        F.corners = P.corners;
+        C.faces.push_back(F);
+      }
       d.layout.patches.push_back(std::move(P));
+    }
+    // A lensed end face: its corners in the order of its disk's (counter-clockwise from outside).
+    for (int i = 0; i < 2; ++i) {
+      if (!lensed[i]) continue;
+      CubeFace& F = end_face[static_cast<std::size_t>(i)];
+      if (F.patches.size() != 3) throw core::TopologyError("split: the connector's end face on ring " + std::to_string(i) + " is not its disk and two lenses");
+      const Patch* disk = nullptr;
+      for (const int id : F.patches)
+        if (d.layout.patches[static_cast<std::size_t>(id)].triangles[0] < 0) disk = &d.layout.patches[static_cast<std::size_t>(id)];
+      if (!disk) throw std::logic_error("split: a lensed end face without its disk");
+      const std::vector<int>& o = outline[i];
+      const auto pos = [&](int v) { return std::find(o.begin(), o.end(), v) - o.begin(); };
+      const auto n = static_cast<std::ptrdiff_t>(o.size());
+      const auto offset = [&](int v) { return ((pos(v) - pos(disk->corners[0])) % n + n) % n; };
+      const bool forward = offset(disk->corners[1]) < offset(disk->corners[2]);
+      std::vector<std::pair<std::ptrdiff_t, int>> order;
+      for (const int v : end_corners[i]) order.push_back({forward ? offset(v) : (n - offset(v)) % n, v});
+      std::sort(order.begin(), order.end());
+      for (int k = 0; k < 4; ++k) F.corners[static_cast<std::size_t>(k)] = order[static_cast<std::size_t>(k)].second;
+      C.faces.push_back(F);
     }
     d.components.push_back(std::move(C));
   }

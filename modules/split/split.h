@@ -52,7 +52,9 @@ struct Params {
   double connector_cut = 0.5;
   /// connector: where its ends lie — "level" (the level sets above) or "shoulder" (work in
   /// progress: each end on the concave sharp curves of a shoulder between the cut and the waist,
-  /// joined across the smooth sides; the rod's small end)
+  /// joined across the smooth sides; the rod's small end; where the shoulder's faces are lenses
+  /// between a concave and a convex curve, the connector's end face is its disk and both lenses.
+  /// polycube does not map such a face yet: TopologyError)
   std::string connector_end = "level";
 };
 

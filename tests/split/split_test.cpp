@@ -411,7 +411,7 @@ TEST(Split, RodCutNearItsEyesIsTwoToriAndAConnectorWhoseSurfacesDoNotCrossThemse
   }
 }
 
-// split.connector_end: shoulder (work in progress, docs/status.md "Session 20"): the rod's small
+// split.connector_end: shoulder (work in progress, docs/status.md "Session 20", "Session 21"): the rod's small
 // end is cut along the shoulder's two concave sharp curves (where the shank, z in [0.094, 0.228],
 // ends at x ~ 0.826 on the thinner eye, z in [0.129, 0.192]) and across the sides between them,
 // so its disk is the eye's cross section in the shoulder's plane; the level set at 0.85 crosses
@@ -444,6 +444,33 @@ TEST(Split, RodConnectorEndsOnTheShoulderOfItsSmallEye) {
   EXPECT_LT(shoulder[1], 0.829);
   EXPECT_GT(shoulder[2], 0.125);  // the eye's cross section, not the shank's
   EXPECT_LT(shoulder[3], 0.197);
+  // The neck's end face there is its disk and the shoulder's two faces (lenses between the concave
+  // curves and the shank's convex ones): three patches, its corners on the convex curves, above and
+  // below the eye (z outside [0.129, 0.192]), and every lens in the shoulder's plane.
+  int ends = 0;
+  for (const auto& c : rod.components) {
+    if (c.type != split::ComponentType::cube) continue;
+    for (const auto& f : c.faces) {
+      if (f.patches.size() != 3) continue;
+      ++ends;
+      int above = 0, below = 0, fills = 0;
+      for (const int v : f.corners) {
+        const auto& x = rod.layout.points[static_cast<std::size_t>(v)];
+        EXPECT_NEAR(x[0], 0.8265, 0.005);
+        above += x[2] > 0.197, below += x[2] < 0.125;
+      }
+      EXPECT_EQ(above, 2);
+      EXPECT_EQ(below, 2);
+      for (const int p : f.patches) {
+        const auto& P = rod.layout.patches[static_cast<std::size_t>(p)];
+        fills += rod.layout.filled[static_cast<std::size_t>(P.triangles[0])];
+        for (const int t : P.triangles)
+          for (const int v : rod.layout.triangles[static_cast<std::size_t>(t)]) EXPECT_NEAR(rod.layout.points[static_cast<std::size_t>(v)][0], 0.8265, 0.005);
+      }
+      EXPECT_EQ(fills, 1);
+    }
+  }
+  EXPECT_EQ(ends, 1);
   // The eight has no shoulder: its ends stay on the level sets (the same decomposition).
   split::Params q;
   q.connector_end = "shoulder";
