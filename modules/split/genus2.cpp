@@ -193,6 +193,20 @@ bool neck_side_isolines(Submesh& N, const std::vector<char>& neck_faces, const s
   return true;
 }
 
+// `vs` in the order a walk along the closed `loop` meets them, walking the way that meets ref[0],
+// ref[1], ref[2] in that order (all of them on the loop).
+std::array<int, 4> in_loop_order(const std::vector<int>& loop, const std::array<int, 4>& ref, const std::array<int, 4>& vs) {
+  const auto n = static_cast<std::ptrdiff_t>(loop.size());
+  const auto offset = [&](int v) { return ((std::find(loop.begin(), loop.end(), v) - std::find(loop.begin(), loop.end(), ref[0])) % n + n) % n; };
+  const bool forward = offset(ref[1]) < offset(ref[2]);
+  std::array<std::pair<std::ptrdiff_t, int>, 4> order{};
+  for (std::size_t k = 0; k < 4; ++k) order[k] = {forward ? offset(vs[k]) : (n - offset(vs[k])) % n, vs[k]};
+  std::sort(order.begin(), order.end());
+  std::array<int, 4> out{};
+  for (std::size_t k = 0; k < 4; ++k) out[k] = order[k].second;
+  return out;
+}
+
 }  // namespace
 
 // A connector end on a shoulder: the cut loop and the two concave sharp curves it runs along,
@@ -595,8 +609,11 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
     std::array<std::array<int, 4>, 2> end_corners = disk_corners;  // layout ids, in the outline's order
     std::array<bool, 2> lensed{false, false};
     std::set<Edge> lens_cuts;  // the convex curves (local ids)
+    const auto shoulder_of = [&](int i) -> const Shoulder& {
+      return shoulders[static_cast<std::size_t>(std::find(cut_loops.begin(), cut_loops.end(), rim[i]) - cut_loops.begin())];
+    };
     for (int i = 0; i < 2; ++i) {
-      const Shoulder& sh = shoulders[static_cast<std::size_t>(std::find(cut_loops.begin(), cut_loops.end(), rim[i]) - cut_loops.begin())];
+      const Shoulder& sh = shoulder_of(i);
       if (sh.loop.empty() || sh.convex[0].empty() || sh.convex[1].empty()) continue;
       std::vector<int>& o = outline[i];
       std::array<std::vector<int>, 2> arcs;
@@ -636,15 +653,7 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
         for (std::size_t j = 1; j < b.size(); ++j) lens_cuts.insert(edge(local.at(b[j - 1]), local.at(b[j])));
         for (std::size_t j = 1; j + 1 < b.size(); ++j) blocked[static_cast<std::size_t>(local.at(b[j]))] = 1;
       }
-      // In the outline's direction that visits the disk's corners in their order.
-      const auto pos = [&](int v) { return std::find(o.begin(), o.end(), v) - o.begin(); };
-      const auto n = static_cast<std::ptrdiff_t>(o.size());
-      const bool forward = ((pos(disk_corners[i][1]) - pos(disk_corners[i][0])) % n + n) % n < ((pos(disk_corners[i][2]) - pos(disk_corners[i][0])) % n + n) % n;
-      std::vector<std::pair<std::ptrdiff_t, int>> order;
-      for (const auto& pk : pick)
-        for (const int v : pk) order.push_back({((forward ? 1 : -1) * (pos(v) - pos(disk_corners[i][0])) % n + n) % n, v});
-      std::sort(order.begin(), order.end());
-      for (int k = 0; k < 4; ++k) end_corners[i][static_cast<std::size_t>(k)] = order[static_cast<std::size_t>(k)].second;
+      end_corners[i] = in_loop_order(o, disk_corners[i], {pick[0][0], pick[0][1], pick[1][0], pick[1][1]});
       lensed[i] = true;
       core::log("split: the connector's end face holds its disk and the shoulder's two faces (ring " + std::to_string(i) + ")");
     }
@@ -699,7 +708,7 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
       for (const auto& [a, b] : lens_cuts) on_lens_curves.insert(a), on_lens_curves.insert(b);
       for (int i = 0; i < 2; ++i)
         if (lensed[i])
-          for (const auto& a : shoulders[static_cast<std::size_t>(std::find(cut_loops.begin(), cut_loops.end(), rim[i]) - cut_loops.begin())].concave)
+          for (const auto& a : shoulder_of(i).concave)
             for (const int v : a) on_lens_curves.insert(local.at(v));
       int lenses = 0;
       for (const Region& r : regions(N.mesh, cuts, nullptr)) {
@@ -804,15 +813,7 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
       for (const int id : F.patches)
         if (d.layout.patches[static_cast<std::size_t>(id)].triangles[0] < 0) disk = &d.layout.patches[static_cast<std::size_t>(id)];
       if (!disk) throw std::logic_error("split: a lensed end face without its disk");
-      const std::vector<int>& o = outline[i];
-      const auto pos = [&](int v) { return std::find(o.begin(), o.end(), v) - o.begin(); };
-      const auto n = static_cast<std::ptrdiff_t>(o.size());
-      const auto offset = [&](int v) { return ((pos(v) - pos(disk->corners[0])) % n + n) % n; };
-      const bool forward = offset(disk->corners[1]) < offset(disk->corners[2]);
-      std::vector<std::pair<std::ptrdiff_t, int>> order;
-      for (const int v : end_corners[i]) order.push_back({forward ? offset(v) : (n - offset(v)) % n, v});
-      std::sort(order.begin(), order.end());
-      for (int k = 0; k < 4; ++k) F.corners[static_cast<std::size_t>(k)] = order[static_cast<std::size_t>(k)].second;
+      F.corners = in_loop_order(outline[i], disk->corners, end_corners[i]);
       C.faces.push_back(F);
     }
     d.components.push_back(std::move(C));
