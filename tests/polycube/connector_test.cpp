@@ -176,6 +176,26 @@ TEST(Connector, RodCutNearItsEyesMapsItsNeckWithoutFlippedTets) {
   EXPECT_EQ(vm.surface_vertices, static_cast<int>(neck.layout_vertex.size()));
 }
 
+// split.connector_end: shoulder makes the rod's small end face its disk and the shoulder's two
+// lenses (docs/status.md, Session 21); mapping such a face as strips is not built yet, so the
+// connector is refused with a TopologyError that names the option, not mapped wrongly.
+TEST(Connector, EndFaceOfThreePatchesIsRefusedNamingTheOption) {
+  const auto mesh = surface::read_surface(std::string(VOLTS_SHARED_MODELS) + "/loopycuts_rod_rem.obj");
+  split::Params sp;
+  sp.genus2 = "connector";
+  sp.connector_cut = 0.85;
+  sp.connector_end = "shoulder";
+  const split::Decomposition d = split::split(mesh, classify::classify(mesh, {}), sp);
+  const auto rings = polycube::rings(d);
+  const polycube::Ring neck = polycube::connector(d).value();
+  try {
+    polycube::map_connector(neck, rings[0], {});
+    ADD_FAILURE() << "a three-patch end face must be refused";
+  } catch (const core::TopologyError& e) {
+    EXPECT_NE(std::string(e.what()).find("split.connector_end"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Connector, StageFileCornersAreCheckedAndNameTheFile) {
   const Eight& e = eight();
   const volmap::VolumeMap vm = polycube::connector_volume_map(e.neck, e.map, {});
