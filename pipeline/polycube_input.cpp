@@ -278,6 +278,186 @@ tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& param
   return m;
 }
 
+// Glues the cube face of ring r (cubes first, first + 1, ... of k) whose corner vertices are
+// `want` (layout ids) to face a = r of the connector cube nk, corner want[i] onto the connector's
+// parameters q[i] (the corners of that face). Throws core::InvalidInputError naming `in` if no
+// face of the ring has those corners or they do not lie on it as the square q.
+void glue_connector_end(tmesh::CubeComplex& k, const std::string& in, const Ring& ring, int r, const core::Json& ring_json, int first, int nk,
+                        const std::array<int, 4>& want, const std::array<tmesh::Vec3, 4>& q) {
+  std::vector<int> layout_vertex;
+  std::vector<std::array<int, 8>> corner_vertex;
+  try {
+    layout_vertex = core::require(ring_json, "layout_vertex", in).get<std::vector<int>>();
+    corner_vertex = core::require(core::require(ring_json, "polycube", in), "corner_vertex", in)
+                        .get<std::vector<std::array<int, 8>>>();
+  } catch (const core::Json::exception& x) {
+    throw core::InvalidInputError(in + ": malformed rings[" + std::to_string(r) + "] layout_vertex or polycube.corner_vertex: " + x.what());
+  }
+  if (static_cast<int>(corner_vertex.size()) != ring.embedding.ring) throw core::InvalidInputError(in + ": rings[" + std::to_string(r) + "].polycube.corner_vertex does not match its ring");
+  // Layout vertex at cube corner i (cube parameters: b and c swapped from the sector's if swap).
+  auto cube_corner = [&](int sector, int i) {
+    int a = i & 1, b = (i >> 1) & 1, c = (i >> 2) & 1;
+    if (ring.swap) std::swap(b, c);
+    const int v = corner_vertex[static_cast<std::size_t>(sector)][static_cast<std::size_t>(a + 2 * b + 4 * c)];
+    if (v < 0 || v >= static_cast<int>(layout_vertex.size())) throw core::InvalidInputError(in + ": rings[" + std::to_string(r) + "].polycube.corner_vertex is out of range");
+    return layout_vertex[static_cast<std::size_t>(v)];
+  };
+  const int neck_face = r;  // a = 0 on ring 0's disk, a = 1 on ring 1's
+  bool glued = false;
+  for (int sector = 0; sector < ring.embedding.ring && !glued; ++sector)
+    for (int f = 2; f < 6 && !glued; ++f) {
+      const int d = f / 2, side = f % 2;
+      std::array<int, 4> have{};
+      std::array<tmesh::Vec3, 4> p{};
+      for (int i = 0, n = 0; i < 8; ++i)
+        if (((i >> d) & 1) == side) have[n] = cube_corner(sector, i), p[n++] = {double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)};
+      std::array<int, 4> a = have, b = want;
+      std::sort(a.begin(), a.end()), std::sort(b.begin(), b.end());
+      if (a != b) continue;
+      // The axis map taking the ring cube's face corners to the connector's and its outward
+      // normal to the connector's inward one: P = Q U^T (U's columns are unit axis vectors).
+      auto at = [&](int v) { return q[static_cast<std::size_t>(std::find(want.begin(), want.end(), v) - want.begin())]; };
+      std::array<tmesh::Vec3, 3> U{}, Q{};
+      for (int e = 0; e < 2; ++e) {
+        const tmesh::Vec3 &p0 = p[0], &p1 = p[static_cast<std::size_t>(e + 1)];
+        const tmesh::Vec3 q0 = at(have[0]), q1 = at(have[static_cast<std::size_t>(e + 1)]);
+        for (int x = 0; x < 3; ++x) U[static_cast<std::size_t>(e)][x] = p1[x] - p0[x], Q[static_cast<std::size_t>(e)][x] = q1[x] - q0[x];
+      }
+      U[2] = {0, 0, 0}, Q[2] = {0, 0, 0};
+      U[2][d] = side ? 1 : -1;
+      Q[2][0] = neck_face ? -1 : 1;
+      tmesh::AxisMap m;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          double v = 0;
+          for (int e = 0; e < 3; ++e) v += Q[static_cast<std::size_t>(e)][i] * U[static_cast<std::size_t>(e)][j];
+          m.P[i][j] = static_cast<int>(std::lround(v));
+        }
+      const tmesh::Vec3 y = m.linear(p[0]), q0 = at(have[0]);
+      m.t = {q0[0] - y[0], q0[1] - y[1], q0[2] - y[2]};
+      for (int i = 1; i < 4; ++i) {
+        const tmesh::Vec3 z = m(p[static_cast<std::size_t>(i)]), w = at(have[static_cast<std::size_t>(i)]);
+        if (z != w) throw core::InvalidInputError(in + ": the connector's end does not lie on ring " + std::to_string(r) + "'s face as a square");
+      }
+      tmesh::glue_faces(k, first + sector, f, nk, neck_face, m);
+      glued = true;
+    }
+  if (!glued) throw core::InvalidInputError(in + ": no cube face of ring " + std::to_string(r) + " has the corners of the connector's end");
+}
+
+// A lensed connector end (polycube's end_strip; split.connector_end: shoulder): face a = end of
+// the connector is three strips across cube axis `axis`, the ring's disk on [lo, hi]; `vertex`:
+// the ring face's corners (the lenses' tips, layout ids) at (other axis, axis) = (i & 1, lo or hi
+// by i >> 1).
+struct EndStrip {
+  int end = 1, axis = 1;
+  double lo = 0, hi = 1;
+  std::array<int, 4> vertex{};
+};
+
+std::optional<EndStrip> read_end_strip(const core::Json& cj, const std::string& in) {
+  if (!cj.contains("end_strip")) return std::nullopt;
+  EndStrip e;
+  std::vector<int> layout_vertex;
+  std::array<int, 4> piece{};
+  try {
+    const core::Json& j = cj["end_strip"];
+    e.end = core::require(j, "end", in).get<int>();
+    e.axis = core::require(j, "axis", in).get<int>();
+    e.lo = core::require(j, "lo", in).get<double>();
+    e.hi = core::require(j, "hi", in).get<double>();
+    piece = core::require(j, "corner_vertex", in).get<std::array<int, 4>>();
+    layout_vertex = core::require(cj, "layout_vertex", in).get<std::vector<int>>();
+  } catch (const core::Json::exception& x) {
+    throw core::InvalidInputError(in + ": malformed connector end_strip: " + x.what());
+  }
+  if ((e.end != 0 && e.end != 1) || (e.axis != 1 && e.axis != 2) || !(0 < e.lo && e.lo < e.hi && e.hi < 1))
+    throw core::InvalidInputError(in + ": connector end_strip needs end 0 or 1, axis 1 or 2 and 0 < lo < hi < 1");
+  for (int i = 0; i < 4; ++i) {
+    const int v = piece[static_cast<std::size_t>(i)];
+    if (v < 0 || v >= static_cast<int>(layout_vertex.size())) throw core::InvalidInputError(in + ": connector end_strip.corner_vertex is out of range");
+    e.vertex[static_cast<std::size_t>(i)] = layout_vertex[static_cast<std::size_t>(v)];
+  }
+  return e;
+}
+
+// The complex of a connector with a lensed end (Liu et al. §4.3, Fig. 6(a)/13: the rod's shank
+// ending on its thinner eye), glued in part: laid out in one frame (develop), the ring's boxes
+// narrowed along the strip axis to the disk's strip, cut where faces end (box_complex) and
+// pillowed as one complex with one thickness in the frame. A point of a cube is found in the
+// frame; a point on the face the ring shares with the connector is the ring's.
+tmesh::PolycubeMaps strip_connector_maps(const std::string& in, const tmesh::CubeComplex& k, const EndStrip& strip, const tmesh::PolycubeMaps& ring,
+                                         const std::shared_ptr<volmap::Locator>& neck, int first, int cubes, const tmesh::Params& params) {
+  const int nk = static_cast<int>(k.glue.size()) - 1;
+  tmesh::BoxLayout layout;
+  const std::vector<tmesh::AxisMap> frame = tmesh::develop(k, layout);
+  int F = -1;  // the frame axis of the strip axis
+  for (int f = 0; f < 3; ++f)
+    if (frame[static_cast<std::size_t>(nk)].P[f][strip.axis] != 0) F = f;
+  tmesh::Vec3 at_lo{double(strip.end), 0, 0}, at_hi = at_lo;
+  at_lo[static_cast<std::size_t>(strip.axis)] = strip.lo, at_hi[static_cast<std::size_t>(strip.axis)] = strip.hi;
+  const auto& nb = layout.boxes[static_cast<std::size_t>(nk)];
+  const double x0 = tmesh::cube_to_frame(frame[static_cast<std::size_t>(nk)], nb, at_lo)[F],
+               x1 = tmesh::cube_to_frame(frame[static_cast<std::size_t>(nk)], nb, at_hi)[F];
+  for (int c = first; c < first + cubes; ++c) {
+    auto& b = layout.boxes[static_cast<std::size_t>(c)];
+    if (std::abs(b[0][F] - nb[0][F]) > 1e-9 || std::abs(b[1][F] - nb[1][F]) > 1e-9)
+      throw core::InvalidInputError(in + ": the ring on the connector's lensed end does not run across its strips (cube " + std::to_string(c) + ")");
+    b[0][F] = std::min(x0, x1), b[1][F] = std::max(x0, x1);
+  }
+  const auto bc = std::make_shared<const tmesh::BoxComplex>(tmesh::box_complex(layout));
+  const int n = 1 << params.level;
+  std::vector<std::array<int, 3>> wanted(bc->extent.size());
+  for (std::size_t i = 0; i < wanted.size(); ++i)
+    for (int d = 0; d < 3; ++d)
+      wanted[i][static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(std::lround(n * (bc->extent[i][1][d] - bc->extent[i][0][d]))));
+  // A unit cube's pillow, thinner where a sub-box is thin (a lens strip): at most 0.45 of it.
+  double p = static_cast<double>(params.pillow_layers) / (n + 2 * params.pillow_layers);
+  for (const auto& e : bc->extent)
+    for (int d = 0; d < 3; ++d) p = std::min(p, 0.45 * (e[1][d] - e[0][d]));
+  tmesh::PolycubeMaps m;
+  // Where a lens meets the next ring sector's face in one plane of the frame, the ring turns
+  // away in the solid (OppositePlanes::in_plane).
+  m.blocks = tmesh::blocks_in_cubes(*bc, frame,
+                                    tmesh::complex_blocks(bc->complex, tmesh::element_counts(bc->complex, wanted), params.pillow_layers,
+                                                          bc->pillow(p), tmesh::OppositePlanes::in_plane));
+  m.boundary.assign(m.blocks.size(), {0, 0, 0, 0, 0, 0});
+  // The cube holding a point of cube c's parameters and the point in its parameters: through the
+  // frame (across the rings' closures), a ring's cube first.
+  auto where = [bc, frame, nk](int c, const tmesh::Vec3& x) {
+    const tmesh::Vec3 y = tmesh::cube_to_frame(frame[static_cast<std::size_t>(c)], bc->boxes[static_cast<std::size_t>(c)], x);
+    const auto at = bc->locate(y);
+    if (!at)
+      throw core::NumericalError("tmesh: a point of cube " + std::to_string(c) + " (" + std::to_string(x[0]) + ", " + std::to_string(x[1]) + ", " +
+                                 std::to_string(x[2]) + ") lies outside the polycube of the rings and the connector");
+    const tmesh::Vec3 z = bc->to_frame(at->first, at->second);
+    int owner = bc->box[static_cast<std::size_t>(at->first)];
+    const double tol = 1e-9 * bc->size;
+    for (int b = 0; b < nk && owner == nk; ++b) {
+      const auto& B = bc->boxes[static_cast<std::size_t>(b)];
+      bool inside = true;
+      for (int d = 0; d < 3; ++d) inside = inside && z[d] > B[0][d] - tol && z[d] < B[1][d] + tol;
+      if (inside) owner = b;
+    }
+    tmesh::Vec3 u = tmesh::frame_to_cube(frame[static_cast<std::size_t>(owner)], bc->boxes[static_cast<std::size_t>(owner)], z);
+    for (double& v : u) v = std::clamp(v, 0.0, 1.0);
+    return std::make_pair(owner, u);
+  };
+  m.physical = [where, ring, neck, nk](int c, const tmesh::Vec3& x) {
+    const auto [cube, y] = where(c, x);
+    if (cube != nk) return ring.physical(cube, y);
+    const auto p = neck->physical(y);
+    if (!p) throw core::NumericalError("tmesh: a point of the connector lies outside its volume map");
+    return *p;
+  };
+  m.polycube = [where, ring, nk](int c, const tmesh::Vec3& x) {
+    const auto [cube, y] = where(c, x);
+    if (cube != nk) return ring.polycube(cube, y);
+    return tmesh::Vec3{y[0] + 30.0, y[1], y[2]};  // the rings lie within x < 13
+  };
+  return m;
+}
+
 // A connector cube between the two rings (split.genus2: connector; polycube/connector.h): the
 // rings' cubes and the connector as one complex of glued cubes (tmesh/complex.h), pillowed as a
 // whole so that the pillow wraps around the concave edges where the connector stands on a ring's
@@ -312,75 +492,29 @@ tmesh::PolycubeMaps connector_maps(const std::string& in, std::vector<Ring> list
       next.t = {-1, 0, 0};
       tmesh::glue_faces(k, first[r] + i, 1, first[r] + (i + 1) % list[static_cast<std::size_t>(r)].embedding.ring, 0, next);
     }
-  // Each end of the connector onto the ring cube face with the same four corner vertices.
+  // Each end of the connector onto the ring cube face with the same four corner vertices; a lensed
+  // end's ring face has the tips as corners and is glued to the whole end face for now (its
+  // strip is set in the frame below).
+  const std::optional<EndStrip> strip = read_end_strip(cj, in);
   for (int r = 0; r < 2; ++r) {
-    const Ring& ring = list[static_cast<std::size_t>(r)];
-    std::vector<int> layout_vertex;
-    std::vector<std::array<int, 8>> corner_vertex;
-    try {
-      layout_vertex = core::require(rings_json[static_cast<std::size_t>(r)], "layout_vertex", in).get<std::vector<int>>();
-      corner_vertex = core::require(core::require(rings_json[static_cast<std::size_t>(r)], "polycube", in), "corner_vertex", in)
-                          .get<std::vector<std::array<int, 8>>>();
-    } catch (const core::Json::exception& x) {
-      throw core::InvalidInputError(in + ": malformed rings[" + std::to_string(r) + "] layout_vertex or polycube.corner_vertex: " + x.what());
-    }
-    if (static_cast<int>(corner_vertex.size()) != ring.embedding.ring) throw core::InvalidInputError(in + ": rings[" + std::to_string(r) + "].polycube.corner_vertex does not match its ring");
-    // Layout vertex at cube corner i (cube parameters: b and c swapped from the sector's if swap).
-    auto cube_corner = [&](int sector, int i) {
-      int a = i & 1, b = (i >> 1) & 1, c = (i >> 2) & 1;
-      if (ring.swap) std::swap(b, c);
-      const int v = corner_vertex[static_cast<std::size_t>(sector)][static_cast<std::size_t>(a + 2 * b + 4 * c)];
-      if (v < 0 || v >= static_cast<int>(layout_vertex.size())) throw core::InvalidInputError(in + ": rings[" + std::to_string(r) + "].polycube.corner_vertex is out of range");
-      return layout_vertex[static_cast<std::size_t>(v)];
-    };
-    const int neck_face = r;  // a = 0 on ring 0's disk, a = 1 on ring 1's
     std::array<int, 4> want{};
     std::array<tmesh::Vec3, 4> q{};
-    for (int i = 0, n = 0; i < 8; ++i)
-      if ((i & 1) == neck_face) want[n] = neck_corner[static_cast<std::size_t>(i)], q[n++] = {double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)};
-    bool glued = false;
-    for (int sector = 0; sector < ring.embedding.ring && !glued; ++sector)
-      for (int f = 2; f < 6 && !glued; ++f) {
-        const int d = f / 2, side = f % 2;
-        std::array<int, 4> have{};
-        std::array<tmesh::Vec3, 4> p{};
-        for (int i = 0, n = 0; i < 8; ++i)
-          if (((i >> d) & 1) == side) have[n] = cube_corner(sector, i), p[n++] = {double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)};
-        std::array<int, 4> a = have, b = want;
-        std::sort(a.begin(), a.end()), std::sort(b.begin(), b.end());
-        if (a != b) continue;
-        // The axis map taking the ring cube's face corners to the connector's and its outward
-        // normal to the connector's inward one: P = Q U^T (U's columns are unit axis vectors).
-        auto at = [&](int v) { return q[static_cast<std::size_t>(std::find(want.begin(), want.end(), v) - want.begin())]; };
-        std::array<tmesh::Vec3, 3> U{}, Q{};
-        for (int e = 0; e < 2; ++e) {
-          const tmesh::Vec3 &p0 = p[0], &p1 = p[static_cast<std::size_t>(e + 1)];
-          const tmesh::Vec3 q0 = at(have[0]), q1 = at(have[static_cast<std::size_t>(e + 1)]);
-          for (int x = 0; x < 3; ++x) U[static_cast<std::size_t>(e)][x] = p1[x] - p0[x], Q[static_cast<std::size_t>(e)][x] = q1[x] - q0[x];
-        }
-        U[2] = {0, 0, 0}, Q[2] = {0, 0, 0};
-        U[2][d] = side ? 1 : -1;
-        Q[2][0] = neck_face ? -1 : 1;
-        tmesh::AxisMap m;
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) {
-            double v = 0;
-            for (int e = 0; e < 3; ++e) v += Q[static_cast<std::size_t>(e)][i] * U[static_cast<std::size_t>(e)][j];
-            m.P[i][j] = static_cast<int>(std::lround(v));
-          }
-        const tmesh::Vec3 y = m.linear(p[0]), q0 = at(have[0]);
-        m.t = {q0[0] - y[0], q0[1] - y[1], q0[2] - y[2]};
-        for (int i = 1; i < 4; ++i) {
-          const tmesh::Vec3 z = m(p[static_cast<std::size_t>(i)]), w = at(have[static_cast<std::size_t>(i)]);
-          if (z != w) throw core::InvalidInputError(in + ": the connector's end does not lie on ring " + std::to_string(r) + "'s face as a square");
-        }
-        tmesh::glue_faces(k, first[r] + sector, f, nk, neck_face, m);
-        glued = true;
+    if (strip && strip->end == r) {
+      for (int i = 0; i < 4; ++i) {
+        tmesh::Vec3 x{double(r), 0, 0};
+        x[static_cast<std::size_t>(3 - strip->axis)] = i & 1, x[static_cast<std::size_t>(strip->axis)] = (i >> 1) & 1;
+        want[static_cast<std::size_t>(i)] = strip->vertex[static_cast<std::size_t>(i)], q[static_cast<std::size_t>(i)] = x;
       }
-    if (!glued) throw core::InvalidInputError(in + ": no cube face of ring " + std::to_string(r) + " has the corners of the connector's end");
+    } else {
+      for (int i = 0, n = 0; i < 8; ++i)
+        if ((i & 1) == r) want[n] = neck_corner[static_cast<std::size_t>(i)], q[n++] = {double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)};
+    }
+    glue_connector_end(k, in, list[static_cast<std::size_t>(r)], r, rings_json[static_cast<std::size_t>(r)], first[r], nk, want, q);
   }
-  const auto complex = std::make_shared<const tmesh::CubeComplex>(std::move(k));
+  const std::array<int, 2> ring_cubes{list[0].embedding.ring, list[1].embedding.ring};
   const tmesh::PolycubeMaps ring = ring_maps(std::move(list), params);
+  if (strip) return strip_connector_maps(in, k, *strip, ring, neck, first[strip->end], ring_cubes[static_cast<std::size_t>(strip->end)], params);
+  const auto complex = std::make_shared<const tmesh::CubeComplex>(std::move(k));
   tmesh::PolycubeMaps m;
   m.blocks = tmesh::complex_blocks(*complex, 1 << params.level, params.pillow_layers);
   m.boundary.assign(m.blocks.size(), {0, 0, 0, 0, 0, 0});

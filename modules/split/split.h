@@ -50,11 +50,11 @@ struct Params {
   /// connector: its ends lie this fraction of the way from the waist to the saddle at each hole
   /// (level sets of the first harmonic field) [0.05, 0.95]
   double connector_cut = 0.5;
-  /// connector: where its ends lie — "level" (the level sets above) or "shoulder" (work in
-  /// progress: each end on the concave sharp curves of a shoulder between the cut and the waist,
-  /// joined across the smooth sides; the rod's small end; where the shoulder's faces are lenses
-  /// between a concave and a convex curve, the connector's end face is its disk and both lenses.
-  /// polycube does not map such a face yet: TopologyError)
+  /// connector: where its ends lie — "level" (the level sets above) or "shoulder" (each end on
+  /// the concave sharp curves of a shoulder between the cut and the waist, joined across the
+  /// smooth sides; the rod's small end; where the shoulder's faces are lenses between a concave
+  /// and a convex curve, the connector's end face is its disk and both lenses, which polycube maps
+  /// as three strips and tmesh glues to the ring in part)
   std::string connector_end = "level";
 };
 

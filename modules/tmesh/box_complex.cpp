@@ -76,6 +76,7 @@ BoxComplex box_complex(const BoxLayout& layout, const std::vector<std::array<std
     throw core::ConfigError("tmesh: cuts for " + std::to_string(cuts.size()) + " of " + std::to_string(n) + " boxes");
   BoxComplex r;
   r.closures = layout.closures;
+  r.boxes = layout.boxes;
   r.size = 0;
   for (int b = 0; b < n; ++b)
     for (int d = 0; d < 3; ++d) {
@@ -263,17 +264,37 @@ std::vector<AxisMap> develop(const CubeComplex& k, BoxLayout& layout) {
   return frame;
 }
 
+Vec3 cube_to_frame(const AxisMap& frame, const std::array<Vec3, 2>& box, const Vec3& x) {
+  Vec3 y{};
+  for (int f = 0; f < 3; ++f)
+    for (int a = 0; a < 3; ++a)
+      if (frame.P[f][a] != 0) y[f] = box[0][f] + (frame.P[f][a] > 0 ? x[a] : 1 - x[a]) * (box[1][f] - box[0][f]);
+  return y;
+}
+
+Vec3 frame_to_cube(const AxisMap& frame, const std::array<Vec3, 2>& box, const Vec3& y) {
+  Vec3 x{};
+  for (int f = 0; f < 3; ++f)
+    for (int a = 0; a < 3; ++a)
+      if (frame.P[f][a] != 0) {
+        const double u = (y[f] - box[0][f]) / (box[1][f] - box[0][f]);
+        x[a] = frame.P[f][a] > 0 ? u : 1 - u;
+      }
+  return x;
+}
+
 std::vector<std::vector<Block>> blocks_in_cubes(const BoxComplex& bc, const std::vector<AxisMap>& frame, const std::vector<std::vector<Block>>& blocks) {
+  if (bc.boxes.size() != frame.size()) throw core::ConfigError("tmesh: frame maps for " + std::to_string(frame.size()) + " of " + std::to_string(bc.boxes.size()) + " boxes");
   std::vector<std::vector<Block>> cores(frame.size()), slabs(frame.size());
   std::vector<std::vector<int>> slab_face(frame.size());
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     const int c = bc.box.at(i);
-    const AxisMap to_cube = frame.at(static_cast<std::size_t>(c)).inverse();
+    const AxisMap& to_frame = frame.at(static_cast<std::size_t>(c));
     // Cube axis a is frame axis fa[a] (sign sa[a]).
     std::array<int, 3> fa{}, sa{};
     for (int a = 0; a < 3; ++a)
       for (int f = 0; f < 3; ++f)
-        if (to_cube.P[a][f] != 0) fa[a] = f, sa[a] = to_cube.P[a][f];
+        if (to_frame.P[f][a] != 0) fa[a] = f, sa[a] = to_frame.P[f][a];
     for (const Block& b : blocks[i]) {
       Block o;
       o.pillow = b.pillow;
@@ -288,7 +309,8 @@ std::vector<std::vector<Block>> blocks_in_cubes(const BoxComplex& bc, const std:
           const int bit = (j >> a) & 1;
           from |= (sa[a] > 0 ? bit : 1 - bit) << fa[a];
         }
-        o.corners[static_cast<std::size_t>(j)] = to_cube(bc.to_frame(static_cast<int>(i), b.corners[static_cast<std::size_t>(from)]));
+        o.corners[static_cast<std::size_t>(j)] =
+            frame_to_cube(to_frame, bc.boxes[static_cast<std::size_t>(c)], bc.to_frame(static_cast<int>(i), b.corners[static_cast<std::size_t>(from)]));
       }
       if (!o.pillow) {
         cores[static_cast<std::size_t>(c)].push_back(o);

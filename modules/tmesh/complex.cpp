@@ -76,8 +76,9 @@ namespace {
 // The direction s (entries -1, 0, 1, cube c's parameters) from corner v of cube c to its inner
 // copy: per axis, toward the solid across the surface plane through v perpendicular to it.
 // Occupancy of the eight octants around v: walked from c across glued faces (octant bit d = 1:
-// on c's side of v along axis d).
-std::array<int, 3> inner_direction(const CubeComplex& k, int c, const std::array<int, 3>& v) {
+// on c's side of v along axis d). Planes facing opposite ways along one axis: refused, or s = 0
+// there (OppositePlanes).
+std::array<int, 3> inner_direction(const CubeComplex& k, int c, const std::array<int, 3>& v, OppositePlanes opposite) {
   struct State {
     bool occupied = false;
     int cube = -1;
@@ -110,18 +111,20 @@ std::array<int, 3> inner_direction(const CubeComplex& k, int c, const std::array
     }
   }
   std::array<int, 3> s{0, 0, 0};
-  for (int d = 0; d < 3; ++d)
+  for (int d = 0; d < 3; ++d) {
+    bool plus = false, minus = false;
     for (int o = 0; o < 8; ++o) {
       if (!((o >> d) & 1)) continue;
       const bool in = oct[o].occupied, out = oct[o ^ (1 << d)].occupied;
       if (in == out) continue;
-      const int dir = in ? c_side[d] : -c_side[d];
-      if (s[d] != 0 && s[d] != dir)
-        throw core::TopologyError("tmesh: the polycube is not a manifold at corner (" + std::to_string(v[0]) + "," + std::to_string(v[1]) + "," +
-                                  std::to_string(v[2]) + ") of cube " + std::to_string(c) + ": surface planes on both sides along axis " +
-                                  std::to_string(d));
-      s[d] = dir;
+      (in ? c_side[d] : -c_side[d]) > 0 ? plus = true : minus = true;
     }
+    if (plus && minus && opposite == OppositePlanes::refuse)
+      throw core::TopologyError("tmesh: the polycube is not a manifold at corner (" + std::to_string(v[0]) + "," + std::to_string(v[1]) + "," +
+                                std::to_string(v[2]) + ") of cube " + std::to_string(c) + ": surface planes on both sides along axis " +
+                                std::to_string(d));
+    s[d] = plus && minus ? 0 : plus ? 1 : minus ? -1 : 0;
+  }
   return s;
 }
 
@@ -148,7 +151,7 @@ std::pair<int, int> mapped_axis(const CubeComplex::Glue& g, int t) {
 }  // namespace
 
 std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, const std::vector<std::array<int, 3>>& counts, int layers,
-                                               const std::vector<std::array<double, 3>>& p) {
+                                               const std::vector<std::array<double, 3>>& p, OppositePlanes opposite) {
   if (layers < 1 || counts.size() != k.glue.size() || p.size() != k.glue.size())
     throw core::ConfigError("tmesh: a pillowed cube complex needs layers >= 1 and counts and pillow thicknesses for each of its " +
                             std::to_string(k.glue.size()) + " cubes, got " + std::to_string(layers) + ", " + std::to_string(counts.size()) +
@@ -179,7 +182,7 @@ std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, const std::
     std::array<Vec3, 8> corner, inner;
     for (int i = 0; i < 8; ++i) {
       const std::array<int, 3> v{i & 1, (i >> 1) & 1, (i >> 2) & 1};
-      const std::array<int, 3> s = inner_direction(k, static_cast<int>(c), v);
+      const std::array<int, 3> s = inner_direction(k, static_cast<int>(c), v, opposite);
       for (int d = 0; d < 3; ++d) corner[i][d] = v[d], inner[i][d] = v[d] + p[c][static_cast<std::size_t>(d)] * s[d];
     }
     Block core;

@@ -56,6 +56,14 @@ struct CubeComplex {
 /// core::TopologyError if a face is glued twice or the map does not take face fa onto fb.
 void glue_faces(CubeComplex& k, int a, int fa, int b, int fb, const AxisMap& a_to_b);
 
+/// Two surface planes through a corner of the complex perpendicular to one axis and facing
+/// opposite ways: a non-manifold polycube (refuse), or, in a development (develop()), a ring's
+/// convex turn at a cross section flattened next to a cube standing on part of the ring's face —
+/// the rod's shoulder lens beside the next sector of its eye — where the two faces are not
+/// coplanar in the solid (in_plane: the inner copy stays in their plane along that axis, inside
+/// the frame's solid; the pillow blocks are flat at that corner in the frame, not in the solid).
+enum class OppositePlanes { refuse, in_plane };
+
 /// The pillowed blocks of every cube: its core (elements[0..2] per direction) and one slab of
 /// `layers` elements per surface face, the pillow's thickness that of `layers` core elements
 /// (p = layers / (elements + 2 layers) along each direction of a cube with two surface faces, as in
@@ -73,9 +81,10 @@ std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, int element
 /// (elements + 2 layers) everywhere. Throws core::ConfigError for layers < 1, a count < 1, a p
 /// outside (0, 0.5) or sizes not one per cube; core::TopologyError naming the cubes and the face
 /// if two glued faces have different counts along their shared axes (element_counts makes them
-/// agree), and as above.
+/// agree), and as above; with OppositePlanes::in_plane such a corner's inner copy stays in the
+/// two planes' plane along that axis.
 std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, const std::vector<std::array<int, 3>>& counts, int layers,
-                                               const std::vector<std::array<double, 3>>& p);
+                                               const std::vector<std::array<double, 3>>& p, OppositePlanes opposite = OppositePlanes::refuse);
 
 /// Element counts per cube and axis that agree across glued faces: axes that glued faces share
 /// (their tangential axes, through the gluing maps) form classes, and every axis of a class gets
@@ -107,6 +116,7 @@ struct BoxComplex {
   std::vector<int> box;                     ///< per cube: its box of the layout
   std::vector<std::array<Vec3, 2>> extent;  ///< per cube: lo, hi in the frame
   std::vector<BoxLayout::Closure> closures;  ///< the layout's
+  std::vector<std::array<Vec3, 2>> boxes;    ///< the layout's boxes (lo, hi), by layout box
   double size = 1;                           ///< the frame's largest coordinate or extent (tolerances are relative to it)
   Vec3 to_frame(int cube, const Vec3& uvw) const;  ///< lo + uvw (hi - lo), also outside [0,1]^3
   /// The cube holding frame point x (within tol of its box, relative to the frame's size;
@@ -131,11 +141,19 @@ BoxComplex box_complex(const BoxLayout& layout, const std::vector<std::array<std
 /// single frame holds it) or two cubes overlap in the frame.
 std::vector<AxisMap> develop(const CubeComplex& k, BoxLayout& layout);
 
+/// A cube's parameters to the frame and back when its box in the frame is `box` (develop's box,
+/// or that box stretched along frame axes, e.g. a ring standing on part of a face): `frame`'s
+/// signed permutation says which cube axis runs along which frame axis, the box its extent.
+Vec3 cube_to_frame(const AxisMap& frame, const std::array<Vec3, 2>& box, const Vec3& x);
+Vec3 frame_to_cube(const AxisMap& frame, const std::array<Vec3, 2>& box, const Vec3& y);
+
 /// complex_blocks' blocks of a BoxComplex of develop()'s layout, given per cube of `k` (a layout
-/// box) in that cube's own parameters and axes (`frame`: develop's maps): corners through the
-/// frame, renumbered so that block axis d is cube axis d, element counts and surface flags
-/// permuted alike; per cube the cores of its sub-boxes first, then their slabs by face. With one
-/// sub-box per cube this is complex_blocks(k, ...) itself, to rounding.
+/// box) in that cube's own parameters and axes (`frame`: develop's maps, whose boxes the layout
+/// may have stretched along frame axes before box_complex): corners through the frame and
+/// frame_to_cube, renumbered so that block axis d is cube axis d, element counts and surface
+/// flags permuted alike; per cube the cores of its sub-boxes first, then their slabs by face. With
+/// one sub-box per cube this is complex_blocks(k, ...) itself, to rounding. Throws
+/// core::ConfigError if `frame` is not one map per layout box.
 std::vector<std::vector<Block>> blocks_in_cubes(const BoxComplex& bc, const std::vector<AxisMap>& frame,
                                                 const std::vector<std::vector<Block>>& blocks);
 

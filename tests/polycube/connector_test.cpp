@@ -57,6 +57,35 @@ int disk_patch(const polycube::Ring& piece, const std::set<int>& fills) {
   return -1;
 }
 
+// Patch p of `piece`'s map_patches map, by whole-decomposition vertex id.
+std::map<int, std::array<double, 2>> by_layout_vertex(const polycube::Ring& piece, const std::vector<polycube::PatchMap>& maps, int p) {
+  std::map<int, std::array<double, 2>> out;
+  const auto& pm = maps.at(static_cast<std::size_t>(p));
+  for (std::size_t i = 0; i < pm.vertices.size(); ++i) out[piece.layout_vertex[static_cast<std::size_t>(pm.vertices[i])]] = pm.st[i];
+  return out;
+}
+
+// The largest distance between two maps of one vertex set onto the unit square, under the best of
+// the square's eight symmetries applied to `a` (1e300 if the vertex sets differ).
+double distance_up_to_symmetry(const std::map<int, std::array<double, 2>>& a, const std::map<int, std::array<double, 2>>& b) {
+  if (a.size() != b.size()) return 1e300;
+  double best = 1e300;
+  for (int sym = 0; sym < 8; ++sym) {
+    double worst = 0;
+    for (const auto& [v, st] : a) {
+      std::array<double, 2> x = st;
+      if (sym & 1) x[0] = 1 - x[0];
+      if (sym & 2) x[1] = 1 - x[1];
+      if (sym & 4) std::swap(x[0], x[1]);
+      const auto it = b.find(v);
+      if (it == b.end()) return 1e300;
+      worst = std::max(worst, std::hypot(x[0] - it->second[0], x[1] - it->second[1]));
+    }
+    best = std::min(best, worst);
+  }
+  return best;
+}
+
 }  // namespace
 
 TEST(Connector, EightSplitsIntoTwoClosedToriAndANeckCube) {
@@ -114,31 +143,7 @@ TEST(Connector, EachEndIsParameterizedAsItsRingParameterizesTheDisk) {
     ASSERT_GE(pn, 0);
     ASSERT_GE(pr, 0);
     const auto ring_maps = polycube::map_patches(ring.decomposition, {});
-    // Both maps by layout vertex.
-    std::map<int, std::array<double, 2>> a, b;
-    for (std::size_t i = 0; i < neck_maps[static_cast<std::size_t>(pn)].vertices.size(); ++i)
-      a[e.neck.layout_vertex[static_cast<std::size_t>(neck_maps[static_cast<std::size_t>(pn)].vertices[i])]] = neck_maps[static_cast<std::size_t>(pn)].st[i];
-    for (std::size_t i = 0; i < ring_maps[static_cast<std::size_t>(pr)].vertices.size(); ++i)
-      b[ring.layout_vertex[static_cast<std::size_t>(ring_maps[static_cast<std::size_t>(pr)].vertices[i])]] = ring_maps[static_cast<std::size_t>(pr)].st[i];
-    ASSERT_EQ(a.size(), b.size());
-    double best = 1e300;
-    for (int sym = 0; sym < 8; ++sym) {
-      double worst = 0;
-      for (const auto& [v, st] : a) {
-        std::array<double, 2> x = st;
-        if (sym & 1) x[0] = 1 - x[0];
-        if (sym & 2) x[1] = 1 - x[1];
-        if (sym & 4) std::swap(x[0], x[1]);
-        const auto it = b.find(v);
-        if (it == b.end()) {
-          worst = 1e300;
-          break;
-        }
-        worst = std::max(worst, std::hypot(x[0] - it->second[0], x[1] - it->second[1]));
-      }
-      best = std::min(best, worst);
-    }
-    EXPECT_LT(best, 1e-8) << "ring " << r;
+    EXPECT_LT(distance_up_to_symmetry(by_layout_vertex(e.neck, neck_maps, pn), by_layout_vertex(ring, ring_maps, pr)), 1e-8) << "ring " << r;
   }
 }
 
@@ -177,9 +182,11 @@ TEST(Connector, RodCutNearItsEyesMapsItsNeckWithoutFlippedTets) {
 }
 
 // split.connector_end: shoulder makes the rod's small end face its disk and the shoulder's two
-// lenses (docs/status.md, Session 21); mapping such a face as strips is not built yet, so the
-// connector is refused with a TopologyError that names the option, not mapped wrongly.
-TEST(Connector, EndFaceOfThreePatchesIsRefusedNamingTheOption) {
+// lenses (docs/status.md, Session 21): that face is mapped as three strips across the eye, lens |
+// disk | lens, with straight lines between them; the disk's strip is ring 1's map of the disk
+// scaled onto it (so ring 1's face can cover it exactly), the lenses lie beyond the lines, and
+// the whole surface map is one-to-one with every patch agreeing on shared sides.
+TEST(Connector, RodShoulderEndFaceIsMappedAsLensDiskLensStrips) {
   const auto mesh = surface::read_surface(std::string(VOLTS_SHARED_MODELS) + "/loopycuts_rod_rem.obj");
   split::Params sp;
   sp.genus2 = "connector";
@@ -187,13 +194,60 @@ TEST(Connector, EndFaceOfThreePatchesIsRefusedNamingTheOption) {
   sp.connector_end = "shoulder";
   const split::Decomposition d = split::split(mesh, classify::classify(mesh, {}), sp);
   const auto rings = polycube::rings(d);
+  ASSERT_EQ(rings.size(), 2u);
   const polycube::Ring neck = polycube::connector(d).value();
-  try {
-    polycube::map_connector(neck, rings[0], {});
-    ADD_FAILURE() << "a three-patch end face must be refused";
-  } catch (const core::TopologyError& e) {
-    EXPECT_NE(std::string(e.what()).find("split.connector_end"), std::string::npos) << e.what();
+  const polycube::ConnectorMap m = polycube::map_connector(neck, rings[0], {});
+  EXPECT_EQ(std::set<int>(m.corner_vertex.begin(), m.corner_vertex.end()).size(), 8u);
+  EXPECT_EQ(m.flipped_surface_triangles, 0);
+  EXPECT_LT(m.max_mismatch, 1e-9);
+  ASSERT_TRUE(m.strip_axis == 1 || m.strip_axis == 2) << m.strip_axis;
+  EXPECT_EQ(m.strip_end, 1);  // the small eye is ring 1
+  const double lo = m.strip[0], hi = m.strip[1];
+  EXPECT_GT(lo, 0.05);
+  EXPECT_LT(hi, 0.95);
+  EXPECT_GT(hi - lo, 0.2);
+  const int other = 3 - m.strip_axis;
+  // The end face's three patches: the disk in [lo, hi] (within rounding), the lenses outside.
+  const auto& L = neck.decomposition.layout;
+  const std::set<int> ring1(rings[1].layout_triangle.begin(), rings[1].layout_triangle.end());
+  const int pn = disk_patch(neck, ring1);
+  ASSERT_GE(pn, 0);
+  const auto& faces = neck.decomposition.components.at(0).faces;
+  int lensed = 0;
+  for (const auto& f : faces) {
+    if (f.patches.size() != 3) continue;
+    ++lensed;
+    for (const int p : f.patches) {
+      int in = 0, out = 0;
+      for (int t : L.patches[static_cast<std::size_t>(p)].triangles)
+        for (int v : L.triangles[static_cast<std::size_t>(t)]) {
+          const auto& x = m.points[static_cast<std::size_t>(v)];
+          EXPECT_NEAR(x[0], 1.0, 1e-12);
+          const double c = x[static_cast<std::size_t>(m.strip_axis)];
+          in += c > lo + 1e-12 && c < hi - 1e-12, out += c < lo - 1e-12 || c > hi + 1e-12;
+        }
+      if (p == pn) EXPECT_EQ(out, 0) << "a vertex of the disk outside its strip";
+      else EXPECT_EQ(in, 0) << "a vertex of lens patch " << p << " inside the disk's strip";
+    }
   }
+  EXPECT_EQ(lensed, 1);
+  // The disk's strip, rescaled to the unit square, is ring 1's own map of the disk.
+  std::map<int, std::array<double, 2>> strip;
+  for (int t : L.patches[static_cast<std::size_t>(pn)].triangles)
+    for (int v : L.triangles[static_cast<std::size_t>(t)]) {
+      const auto& x = m.points[static_cast<std::size_t>(v)];
+      strip[neck.layout_vertex[static_cast<std::size_t>(v)]] = {x[static_cast<std::size_t>(other)],
+                                                                (x[static_cast<std::size_t>(m.strip_axis)] - lo) / (hi - lo)};
+    }
+  const int pr = disk_patch(rings[1], ring1);
+  ASSERT_GE(pr, 0);
+  EXPECT_LT(distance_up_to_symmetry(strip, by_layout_vertex(rings[1], polycube::map_patches(rings[1].decomposition, {}), pr)), 1e-9);
+  // And the neck's volume map, with the maps smoothed as the pipeline smooths a connector's.
+  polycube::Params pp;
+  pp.smooth_below_ratio = pp.connector_smooth_below_ratio;
+  const volmap::VolumeMap vm = polycube::connector_volume_map(neck, m, pp);
+  EXPECT_EQ(vm.flipped_tets, 0);
+  EXPECT_GT(vm.min_volume_ratio, 0);
 }
 
 TEST(Connector, StageFileCornersAreCheckedAndNameTheFile) {

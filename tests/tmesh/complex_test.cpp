@@ -475,3 +475,108 @@ TEST(BoxComplex, DevelopedComplexGivesTheSameBlocksInEachCubesParameters) {
   tmesh::glue_faces(twisted, 3, 1, 0, 0, turn);
   EXPECT_THROW(tmesh::develop(twisted, L), core::TopologyError);
 }
+
+// The rod's small end in the frame (develop()): ring 1's boxes narrowed to the middle strip of the
+// connector's end face, the rest of that face a lens on each side. Where a lens meets the next
+// sector of the ring the development puts both faces in one plane facing opposite ways (in the
+// solid the ring turns away there): refused by default; with OppositePlanes::in_plane every block
+// corner stays inside the frame's solid, the blocks tile it without inverted corners (some are
+// flat there) and conform. blocks_in_cubes gives them back in each cube's own parameters through
+// the narrowed boxes.
+TEST(BoxComplex, ALensBesideTheNextRingSectorIsPillowedInThePlaneOfBoth) {
+  const tmesh::CubeComplex k = two_rings_and_a_connector();
+  tmesh::BoxLayout L;
+  const std::vector<AxisMap> frame = tmesh::develop(k, L);
+  // Connector axis b (ring 1's A is the connector's c): the strip [0.3, 0.7] of it.
+  int F = -1;
+  for (int f = 0; f < 3; ++f)
+    if (frame[8].P[f][1] != 0) F = f;
+  ASSERT_GE(F, 0);
+  const double x0 = tmesh::cube_to_frame(frame[8], L.boxes[8], Vec3{1, 0.3, 0.5})[F], x1 = tmesh::cube_to_frame(frame[8], L.boxes[8], Vec3{1, 0.7, 0.5})[F];
+  for (int c = 4; c < 8; ++c) L.boxes[c][0][F] = std::min(x0, x1), L.boxes[c][1][F] = std::max(x0, x1);
+  const tmesh::BoxComplex bc = tmesh::box_complex(L);
+  std::vector<std::array<int, 3>> wanted(bc.extent.size());
+  for (std::size_t c = 0; c < wanted.size(); ++c)
+    for (int d = 0; d < 3; ++d) wanted[c][d] = std::max(1, static_cast<int>(std::lround(8 * (bc.extent[c][1][d] - bc.extent[c][0][d]))));
+  const auto counts = tmesh::element_counts(bc.complex, wanted);
+  EXPECT_THROW(tmesh::complex_blocks(bc.complex, counts, 1, bc.pillow(0.1)), core::TopologyError);
+  const auto blocks = tmesh::complex_blocks(bc.complex, counts, 1, bc.pillow(0.1), tmesh::OppositePlanes::in_plane);
+  double want_volume = 0;
+  for (const auto& b : L.boxes) want_volume += (b[1][0] - b[0][0]) * (b[1][1] - b[0][1]) * (b[1][2] - b[0][2]);
+  auto inside = [&](const Vec3& x) {
+    for (const auto& b : L.boxes) {
+      bool in = true;
+      for (int d = 0; d < 3; ++d) in = in && x[d] > b[0][d] - 1e-12 && x[d] < b[1][d] + 1e-12;
+      if (in) return true;
+    }
+    return false;
+  };
+  // Faces across a ring's closure compared where they meet: a point on a closing face moved by its shift.
+  auto fold = [&](Vec3 x) {
+    for (const auto& cl : L.closures) {
+      const auto& b = L.boxes[static_cast<std::size_t>(cl.a)];
+      const int d = cl.fa / 2;
+      bool on = std::abs(x[d] - b[cl.fa % 2][d]) < 1e-12;
+      for (int e = 0; e < 3; ++e) on = on && (e == d || (x[e] > b[0][e] - 1e-12 && x[e] < b[1][e] + 1e-12));
+      if (on) {
+        for (int e = 0; e < 3; ++e) x[e] += cl.shift[e];
+        return x;
+      }
+    }
+    return x;
+  };
+  double total = 0;
+  int flat = 0;
+  std::map<FaceKey, int> inner_faces;
+  for (std::size_t c = 0; c < blocks.size(); ++c)
+    for (const Block& b : blocks[c]) {
+      std::array<Vec3, 8> x;
+      for (int i = 0; i < 8; ++i) {
+        x[i] = bc.to_frame(static_cast<int>(c), b.corners[i]);
+        EXPECT_TRUE(inside(x[i])) << "sub-box " << c << ": a block corner outside the solid";
+      }
+      double min_det = 0;
+      total += volume(x, &min_det);
+      EXPECT_GT(min_det, -1e-12) << "sub-box " << c;
+      flat += min_det < 1e-9;
+      std::array<Vec3, 8> folded;
+      for (int i = 0; i < 8; ++i) folded[i] = fold(x[i]);
+      for (int f = 0; f < 6; ++f)
+        if (!b.boundary[f]) ++inner_faces[face_key(folded, f)];
+    }
+  EXPECT_NEAR(total, want_volume, 1e-9);
+  EXPECT_GT(flat, 0);  // the lens's corners beside the ring's next sector
+  for (const auto& [key, n] : inner_faces) EXPECT_EQ(n, 2) << "an inner block face not shared by exactly two blocks";
+  // Back in each cube's parameters: the same frame corners through its (narrowed) box.
+  const auto in_cubes = tmesh::blocks_in_cubes(bc, frame, blocks);
+  std::vector<std::array<Vec3, 8>> a, b;
+  for (std::size_t c = 0; c < blocks.size(); ++c)
+    for (const Block& q : blocks[c]) {
+      std::array<Vec3, 8> x;
+      for (int i = 0; i < 8; ++i) x[i] = bc.to_frame(static_cast<int>(c), q.corners[i]);
+      std::sort(x.begin(), x.end());
+      a.push_back(x);
+    }
+  for (std::size_t c = 0; c < in_cubes.size(); ++c)
+    for (const Block& q : in_cubes[c]) {
+      std::array<Vec3, 8> x;
+      for (int i = 0; i < 8; ++i) {
+        x[i] = tmesh::cube_to_frame(frame[c], L.boxes[c], q.corners[i]);
+        const Vec3 back = tmesh::frame_to_cube(frame[c], L.boxes[c], x[i]);
+        for (int d = 0; d < 3; ++d) EXPECT_NEAR(back[d], q.corners[i][d], 1e-12);
+      }
+      std::sort(x.begin(), x.end());
+      b.push_back(x);
+    }
+  std::sort(a.begin(), a.end()), std::sort(b.begin(), b.end());
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int d = 0; d < 3; ++d) EXPECT_NEAR(a[i][j][d], b[i][j][d], 1e-12);
+  // An unstretched cube's box is its develop() map.
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 u{0.1 + 0.1 * i, 0.9 - 0.1 * i, 0.25};
+    const Vec3 p = tmesh::cube_to_frame(frame[0], L.boxes[0], u), q = frame[0](u);
+    for (int d = 0; d < 3; ++d) EXPECT_NEAR(p[d], q[d], 1e-12);
+  }
+}
