@@ -407,6 +407,9 @@ tmesh::PolycubeMaps strip_connector_maps(const std::string& in, const tmesh::Cub
   }
   const auto bc = std::make_shared<const tmesh::BoxComplex>(tmesh::box_complex(layout));
   const int n = 1 << params.level;
+  // 2^level elements per unit of frame length, at least one. (Per unit of each cube's own
+  // parameters instead, the narrowed ring keeping 2^level across its strip, measured worse on the
+  // rod: 7,136 elements, 6 not certified valid, against 5,696 and 2.)
   std::vector<std::array<int, 3>> wanted(bc->extent.size());
   for (std::size_t i = 0; i < wanted.size(); ++i)
     for (int d = 0; d < 3; ++d)
