@@ -64,8 +64,10 @@ const std::vector<Model>& all_models() {
       {"torus", "torus", "", 24, &kTorus, 0.5},
       {"cinolib_torus", "", "cinolib_torus.obj", 24, &kTorus, 0.5},
       {"eight", "", "cfwen_eight.off", 24, &kEight, 0.4},
-      // The shank runs almost to the eyes: cut there (at 0.5 each ring keeps half the shank).
-      {"rod", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "split: {connector_cut: 0.85}"},
+      // The shank runs almost to the eyes: cut there (at 0.5 each ring keeps half the shank), the
+      // small end on the shoulder; longer joint rounds (examples/rod.yaml).
+      {"rod", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4,
+       "split: {connector_cut: 0.85, connector_end: shoulder}\ntmesh: {joint_evaluations: 300}"},
       {"tube", "", "vhacd_tube1.off", 24, nullptr},
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},
@@ -185,7 +187,11 @@ Result run_model(const Model& m, const fs::path& models_dir, const fs::path& wor
   const fs::path config = dir / "bench.yaml";
   std::ofstream(config) << "# bench_pipeline: configs/default.yaml with this input\ninput: " << input << "\n"
                         << (all_exports ? "" : "extract: {exports: [vtu]}\n") << (m.config.empty() ? "" : m.config + "\n");
-  if (!m.config.empty()) r.input += " + " + m.config;
+  if (!m.config.empty()) {
+    std::string quoted = m.config;  // one table cell: lines joined by "; "
+    for (std::size_t i = quoted.find('\n'); i != std::string::npos; i = quoted.find('\n', i)) quoted.replace(i, 1, "; ");
+    r.input += " + " + quoted;
+  }
   std::fprintf(stderr, "bench_pipeline: %s ...\n", m.name.c_str());
   volts::core::Stopwatch watch;
   const int rc = run_with_timeout({volts, "run", config.string(), "--workdir", dir.string()}, dir / "volts.stdout.txt",

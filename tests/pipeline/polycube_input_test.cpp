@@ -6,7 +6,9 @@
 #include <CGAL/AABB_tree.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "../common/test_util.h"
@@ -161,6 +163,72 @@ TEST(PolycubeInput, ProfileRingsHaveACubePerCellAndSectorAndBadProfilesNameTheFi
       EXPECT_NE(std::string(e.what()).find("profile"), std::string::npos) << e.what();
     }
   }
+}
+
+}  // namespace
+}  // namespace volts
+
+namespace volts {
+namespace {
+
+// The rod with its small end on the shoulder (examples/rod.yaml): the connector's end face is
+// the eye's disk between two lenses, and the eye's ring stands on the disk's strip only. Every
+// block corner of the complex is evaluated, the blocks conform in polycube space across that
+// partial gluing (each inner block face is exactly one other block's), and every corner of a
+// surface block face lies on the input surface — the lenses' too, which lie on the connector's
+// end face outside the eye.
+TEST(PolycubeInput, RodsEyeStandsOnTheDisksStripOfTheConnectorsLensedEnd) {
+  const fs::path d = test::fresh_dir("pipeline", "polycube_input_lensed");
+  test::write_text(d / "run.yaml", "input: {file: " + std::string(VOLTS_SHARED_MODELS) +
+                                       "/loopycuts_rod_rem.obj}\nsplit: {connector_cut: 0.85, connector_end: shoulder}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string() + " --to polycube");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string file = (d / "w" / "polycube.stage.json").string();
+  const core::Json j = core::read_stage_file(file, "volts-polycube", 2);
+  ASSERT_TRUE(j["connectors"][0].contains("end_strip"));
+  const core::Json strip = j["connectors"][0]["end_strip"];
+  const int axis = strip["axis"].get<int>(), end = strip["end"].get<int>();
+  const double lo = strip["lo"].get<double>(), hi = strip["hi"].get<double>();
+  const pipeline::PolycubeInput in = pipeline::read_polycube_input(file, tmesh::Params{});
+  ASSERT_EQ(in.kind, "tori");
+  ASSERT_EQ(in.maps.blocks.size(), 9u);  // four cubes per ring, then the connector
+  const surface::Mesh mesh = surface::mesh_from_json(in.surface, file);
+  Tree tree(faces(mesh).first, faces(mesh).second, mesh);
+  tree.accelerate_distance_queries();
+  const double diag = surface::bbox_diagonal(mesh);
+  std::map<std::array<std::array<long long, 3>, 4>, int> inner;
+  double off_surface = 0;
+  int lens_faces = 0, surface_faces = 0;
+  for (int c = 0; c < 9; ++c)
+    for (const tmesh::Block& b : in.maps.blocks[static_cast<std::size_t>(c)])
+      for (int f = 0; f < 6; ++f) {
+        const int dd = f / 2, side = f % 2;
+        std::array<std::array<long long, 3>, 4> key{};
+        bool lens = b.boundary[f] && c == 8;
+        for (int i = 0, n = 0; i < 8; ++i) {
+          if (((i >> dd) & 1) != side) continue;
+          const tmesh::Vec3 q = in.maps.polycube(c, b.corners[static_cast<std::size_t>(i)]);
+          for (int e = 0; e < 3; ++e) key[static_cast<std::size_t>(n)][static_cast<std::size_t>(e)] = std::llround(q[e] * 1e7);
+          ++n;
+          if (!b.boundary[f]) continue;
+          const tmesh::Vec3 p = in.maps.physical(c, b.corners[static_cast<std::size_t>(i)]);
+          off_surface = std::max(off_surface, std::sqrt(CGAL::to_double(tree.squared_distance(surface::Point(p[0], p[1], p[2])))));
+          const auto& x = b.corners[static_cast<std::size_t>(i)];
+          lens = lens && std::abs(x[0] - end) < 1e-12 && (x[static_cast<std::size_t>(axis)] < lo + 1e-9 || x[static_cast<std::size_t>(axis)] > hi - 1e-9);
+        }
+        std::sort(key.begin(), key.end());
+        if (b.boundary[f]) {
+          ++surface_faces, lens_faces += lens;
+          continue;
+        }
+        ++inner[key];
+      }
+  int unmatched = 0;
+  for (const auto& [key, n] : inner) unmatched += n != 2;
+  EXPECT_EQ(unmatched, 0) << "of " << inner.size() << " inner block faces";
+  EXPECT_GT(surface_faces, 0);
+  EXPECT_GT(lens_faces, 0) << "no pillow under the lenses";
+  EXPECT_LT(off_surface, 1e-6 * diag);
 }
 
 }  // namespace
