@@ -458,6 +458,20 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
     // This torus lies below its rim's level if it reaches further below than above (a shoulder's
     // rim is not one level).
     const bool below = ring_level - *std::min_element(g.begin(), g.end()) > *std::max_element(g.begin(), g.end()) - ring_level;
+    // Its sharp edges (input edges of this torus; carried through the meridian's splits), for the
+    // corner lines they can give with the disk.
+    std::set<Edge> torus_sharp;
+    if (connector && cls) {
+      std::map<int, int> input_local;
+      for (std::size_t v = 0; v < T.layout_vertex.size(); ++v) input_local[T.layout_vertex[v]] = static_cast<int>(v);
+      for (const auto& e : sharp_edges(*cls)) {
+        const auto a = input_local.find(e.first), b = input_local.find(e.second);
+        if (a != input_local.end() && b != input_local.end() &&
+            T.mesh.halfedge(Mesh::Vertex_index(static_cast<Mesh::size_type>(a->second)), Mesh::Vertex_index(static_cast<Mesh::size_type>(b->second))) !=
+                Mesh::null_halfedge())
+          torus_sharp.insert(edge(a->second, b->second));
+      }
+    }
     std::vector<int> meridian;
     for (const auto& [w, c] : gaps) {
       if ((c < ring_level) != below) continue;
@@ -473,8 +487,12 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
       }
       if (meridian.empty()) continue;
       meridian.clear();
-      for (const auto& loop : insert_isoline(T.mesh, g, level_between_vertices(c, g)))
+      std::vector<std::array<int, 3>> splits;
+      IsolineOptions opt;
+      opt.splits = &splits;
+      for (const auto& loop : insert_isoline(T.mesh, g, level_between_vertices(c, g), opt))
         if (meridian.empty() && !loop_separates(T.mesh, loop)) meridian = loop;
+      apply_splits(torus_sharp, splits);
       break;
     }
     if (meridian.empty())
@@ -491,7 +509,7 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
         for (int v : L.triangles[x])
           if (std::find(rim[i].begin(), rim[i].end(), v) == rim[i].end()) inside.insert(local.at(v));
       disk.inside.assign(inside.begin(), inside.end());
-      t = split_torus(T.mesh, {}, prm, {}, meridian, &disk);
+      t = split_torus(T.mesh, torus_sharp, prm, {}, meridian, &disk);
       for (int k = 0; k < 4; ++k) disk_corners[i][k] = T.layout_vertex[static_cast<std::size_t>(disk.corners[k])];
     } else {
       // The waist's disk inside one patch of each torus: no cut crosses it (the tori meet on it

@@ -49,7 +49,10 @@ struct DiskPatch {
 /// `first_cross_section`, if given, is a loop around the tube used instead of §4.1 steps 1–3.
 /// With `disk`, the disk is one whole patch instead (its rim's arcs lie on two cross sections and
 /// two longitudinal lines: the ring and tube fields are harmonic with those arcs as level sets),
-/// `protect` is not used, and the corners chosen are written back.
+/// `protect` is not used, and the corners chosen are written back; `sharp` is then used only if
+/// it gives all four corner lines: each longitudinal rim arc closed around the ring by sharp
+/// edges, and exactly two more closed sharp loops around the ring (a box-like eye: its outer
+/// edges and its hole's rims); otherwise the tube field's levels are the lines, as without it.
 Decomposition split_torus(const surface::Mesh& mesh, const std::set<Edge>& sharp, const Params& params,
                           const std::vector<int>& protect = {}, const std::vector<int>& first_cross_section = {},
                           DiskPatch* disk = nullptr);

@@ -408,6 +408,87 @@ std::vector<std::pair<double, double>> saddle_gaps(const std::vector<double>& f,
   return gaps;
 }
 
+// With a disk: sharp loops that can be the torus's four corner lines, or none (then the tube
+// field's levels are). The two disk lines: each rim arc on a longitudinal line closed by the
+// shortest path of sharp edges between its ends around the ring, off the disk (a box-like eye:
+// its outer edges); the other two: the only two other closed sharp loops around the ring (the
+// hole's rims). Returns the four loops' edges; a sharp edge anywhere else (an edge across the
+// tube, a junction) is left out, as it is without a disk.
+std::set<Edge> disk_corner_loops(const Mesh& mesh, const std::set<Edge>& sharp, const DiskPatch& disk, const DiskCuts& dc,
+                                 const std::vector<double>& u, const std::vector<double>& v) {
+  if (sharp.empty()) return {};
+  std::vector<char> in_disk(mesh.number_of_vertices(), 0);
+  for (const auto* vs : {&disk.rim, &disk.inside})
+    for (int x : *vs) in_disk[static_cast<std::size_t>(x)] = 1;
+  std::map<int, std::vector<int>> adj;
+  for (const auto& e : sharp) adj[e.first].push_back(e.second), adj[e.second].push_back(e.first);
+  auto around_ring = [&](const std::vector<int>& loop) { return std::abs(loop_period(loop, u)) == 1 && loop_period(loop, v) == 0; };
+  std::vector<std::vector<int>> loops;
+  std::set<int> used;
+  for (int i = 0; i < 2; ++i) {
+    const auto& arc = dc.v_arc[static_cast<std::size_t>(i)];
+    const int from = arc.back(), to = arc.front();
+    // Dijkstra over sharp edges, inner vertices off the disk.
+    std::map<int, double> dist{{from, 0.0}};
+    std::map<int, int> prev;
+    std::priority_queue<std::pair<double, int>, std::vector<std::pair<double, int>>, std::greater<>> q;
+    q.push({0.0, from});
+    while (!q.empty()) {
+      const auto [dd, x] = q.top();
+      q.pop();
+      if (dd > dist[x] || x == to) continue;
+      for (int y : adj[x]) {
+        if (y != to && (in_disk[static_cast<std::size_t>(y)] || used.count(y))) continue;
+        const double nd = dd + (pt(mesh, x) - pt(mesh, y)).norm();
+        const auto it = dist.find(y);
+        if (it != dist.end() && it->second <= nd) continue;
+        dist[y] = nd, prev[y] = x;
+        q.push({nd, y});
+      }
+    }
+    if (!prev.count(to)) return {};
+    std::vector<int> loop = arc;  // from `to` to `from`, then back along the path
+    for (int x = prev.at(to); x != from; x = prev.at(x)) loop.push_back(x);
+    std::reverse(loop.begin() + static_cast<std::ptrdiff_t>(arc.size()), loop.end());
+    if (loop.size() < arc.size() + 2 || !around_ring(loop)) return {};
+    used.insert(loop.begin(), loop.end());
+    loops.push_back(std::move(loop));
+  }
+  // The other closed sharp loops: components of the remaining sharp edges that are simple cycles.
+  std::set<Edge> rest;
+  for (const auto& e : sharp)
+    if (!used.count(e.first) && !used.count(e.second) && !in_disk[static_cast<std::size_t>(e.first)] && !in_disk[static_cast<std::size_t>(e.second)])
+      rest.insert(e);
+  std::map<int, int> degree;
+  for (const auto& e : rest) ++degree[e.first], ++degree[e.second];
+  std::set<int> seen;
+  std::vector<std::vector<int>> others;
+  for (const auto& [x0, deg0] : degree) {
+    if (seen.count(x0)) continue;
+    std::vector<int> comp{x0};
+    seen.insert(x0);
+    bool simple = true;
+    for (std::size_t h = 0; h < comp.size(); ++h) {
+      simple = simple && degree[comp[h]] == 2;
+      for (int y : adj[comp[h]])
+        if (rest.count(edge(comp[h], y)) && seen.insert(y).second) comp.push_back(y);
+    }
+    if (!simple) continue;
+    std::set<Edge> ce;
+    for (int x : comp)
+      for (int y : adj[x])
+        if (rest.count(edge(x, y))) ce.insert(edge(x, y));
+    for (auto& l : chain_loops(ce))
+      if (around_ring(l)) others.push_back(std::move(l));
+  }
+  if (others.size() != 2) return {};
+  loops.insert(loops.end(), others.begin(), others.end());
+  std::set<Edge> out;
+  for (const auto& l : loops)
+    for (std::size_t k = 0; k < l.size(); ++k) out.insert(edge(l[k], l[(k + 1) % l.size()]));
+  return out;
+}
+
 bool loop_separates(const Mesh& m, const std::vector<int>& loop) { return separates(m, loop); }
 
 double level_between_vertices(double c, const std::vector<double>& f) { return between_vertices(c, f, 0.0); }
@@ -416,10 +497,9 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
                           const std::vector<int>& first_cross_section, DiskPatch* disk) {
   if (prm.torus_cubes < 4 || prm.torus_cubes > 16) throw core::ConfigError("split.torus_cubes must be in [4, 16]");
   Mesh mesh = input;
-  std::set<Edge> sharp = sharp_in;
+  std::set<Edge> sharp = disk ? std::set<Edge>{} : sharp_in;  // with a disk: only its corner loops, below
   Decomposition d;
   d.genus = 1;
-  if (disk && !sharp.empty()) throw core::TopologyError("split: sharp curves on a torus that meets another on a disk are not supported yet");
   const std::vector<int> protect = disk ? std::vector<int>{} : protect_in;
 
   // Steps 1–3: the first cross section A.
@@ -506,6 +586,7 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
     for (auto fc : mesh.faces())
       for (auto x : CGAL::vertices_around_face(mesh.halfedge(fc), mesh))
         if (!in_disk[x]) off_disk[fc] = 1;
+    sharp = disk_corner_loops(mesh, sharp_in, *disk, *dc, u, v);
   }
   // Level k of count - 1 more levels after a disk's two (level[0], level[1], lifted: level[0] +
   // span), spread evenly over the rest of the turn but kept off the disk (whose range of the field
@@ -555,7 +636,10 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
     for (const auto& l : lines) far &= !(l.corner && circ_dist(l.v, lines[i].v) < 0.125);
     if (far) lines[i].corner = true, ++corners;
   }
-  if (dc) {  // two lines closed by the disk's rim, two spread over the rest of the tube
+  if (dc && !sharp.empty()) {  // the disk's sharp corner loops: all four are cube edges
+    for (auto& l : lines) l.corner = true;
+    corners = 4;
+  } else if (dc) {  // two lines closed by the disk's rim, two spread over the rest of the tube
     for (int i = 0; i < 2; ++i) lines.push_back({false, -1, dc->v_level[i], 0, 0, 0, true, i});
     for (int k = 1; k <= 2; ++k) lines.push_back({false, -1, spread_level(v, dc->v_level, k, 3), 0, 0, 0, true});
     corners = 4;

@@ -479,6 +479,53 @@ TEST(Split, RodConnectorEndsOnTheShoulderOfItsSmallEye) {
   EXPECT_THROW(run_split(shared("cfwen_eight.off"), p), core::ConfigError);
 }
 
+// The rod's small eye is a box with a hole: with the connector on its shoulder, the eye's disk
+// rim arcs are closed around the ring by the eye's outer sharp edges and the other two corner
+// lines are the hole's sharp rims, so every sharp edge of the eye's cross section is a cube edge
+// (split without them, the lines ran up to 0.014 inside the outer edge and inside the hole wall).
+TEST(Split, RodSmallEyesCornerLinesAreItsSharpEdges) {
+  const surface::Mesh mesh = shared("loopycuts_rod_rem.obj");
+  const classify::Classification c = classify::classify(mesh, {});
+  std::set<Edge> sharp;
+  for (std::size_t i = 0; i + 1 < c.sharp_edge_vertices.size(); i += 2) sharp.insert(edge(c.sharp_edge_vertices[i], c.sharp_edge_vertices[i + 1]));
+  split::Params p;
+  p.connector_cut = 0.85;
+  p.connector_end = "shoulder";
+  const split::Decomposition d = split::split(mesh, c, p);
+  check_decomposition(d);
+  const int n_input = static_cast<int>(mesh.number_of_vertices());
+  int eye_lines = 0;
+  for (const auto& line : d.longitude_lines) {
+    bool eye = true;
+    for (const int v : line) eye = eye && d.layout.points[static_cast<std::size_t>(v)][0] > 0.82;
+    if (!eye) continue;
+    ++eye_lines;
+    int off_sharp = 0;
+    for (std::size_t k = 0; k < line.size(); ++k) {
+      const int a = line[k], b = line[(k + 1) % line.size()];
+      if (a < n_input && b < n_input) off_sharp += !sharp.count(edge(a, b));
+    }
+    // A vertex split has put on the line (where a cut crossed it) lies on a sharp input edge.
+    for (const int v : line) {
+      if (v < n_input) continue;
+      const auto& x = d.layout.points[static_cast<std::size_t>(v)];
+      double best = 1e300;
+      for (const auto& [a, b] : sharp) {
+        const auto &pa = d.layout.points[static_cast<std::size_t>(a)], &pb = d.layout.points[static_cast<std::size_t>(b)];
+        double t = 0, len = 0;
+        for (int q = 0; q < 3; ++q) t += (x[q] - pa[q]) * (pb[q] - pa[q]), len += (pb[q] - pa[q]) * (pb[q] - pa[q]);
+        t = std::clamp(t / len, 0.0, 1.0);
+        double dd = 0;
+        for (int q = 0; q < 3; ++q) dd += (pa[q] + t * (pb[q] - pa[q]) - x[q]) * (pa[q] + t * (pb[q] - pa[q]) - x[q]);
+        best = std::min(best, std::sqrt(dd));
+      }
+      off_sharp += best > 1e-9;
+    }
+    EXPECT_EQ(off_sharp, 0) << "eye line " << eye_lines;
+  }
+  EXPECT_EQ(eye_lines, 4);
+}
+
 TEST(Split, EightWithAConnectorIsTwoToriAndANeckCubeOnTheirDisks) {
   // split.genus2: connector (Liu et al. §6): the neck between two cut levels is one cube whose
   // ends are the tori's disks, each a whole patch of its torus.
