@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -345,6 +346,24 @@ void glue_connector_end(tmesh::CubeComplex& k, const std::string& in, const Ring
   if (!glued) throw core::InvalidInputError(in + ": no cube face of ring " + std::to_string(r) + " has the corners of the connector's end");
 }
 
+// The physical and polycube maps of a connector complex: `where` takes a point of cube c's
+// parameters to the cube holding it (rings' cubes, then the connector nk) and its parameters there.
+void set_connector_point_maps(tmesh::PolycubeMaps& m, const std::function<std::pair<int, tmesh::Vec3>(int, const tmesh::Vec3&)>& where,
+                              const tmesh::PolycubeMaps& ring, const std::shared_ptr<volmap::Locator>& neck, int nk) {
+  m.physical = [where, ring, neck, nk](int c, const tmesh::Vec3& x) {
+    const auto [cube, y] = where(c, x);
+    if (cube != nk) return ring.physical(cube, y);
+    const auto p = neck->physical(y);
+    if (!p) throw core::NumericalError("tmesh: a point of the connector lies outside its volume map");
+    return *p;
+  };
+  m.polycube = [where, ring, nk](int c, const tmesh::Vec3& x) {
+    const auto [cube, y] = where(c, x);
+    if (cube != nk) return ring.polycube(cube, y);
+    return tmesh::Vec3{y[0] + 30.0, y[1], y[2]};  // the rings lie within x < 13
+  };
+}
+
 // A lensed connector end (polycube's end_strip; split.connector_end: shoulder): face a = end of
 // the connector is three strips across cube axis `axis`, the ring's disk on [lo, hi]; `vertex`:
 // the ring face's corners (the lenses' tips, layout ids) at (other axis, axis) = (i & 1, lo or hi
@@ -446,18 +465,7 @@ tmesh::PolycubeMaps strip_connector_maps(const std::string& in, const tmesh::Cub
     for (double& v : u) v = std::clamp(v, 0.0, 1.0);
     return std::make_pair(owner, u);
   };
-  m.physical = [where, ring, neck, nk](int c, const tmesh::Vec3& x) {
-    const auto [cube, y] = where(c, x);
-    if (cube != nk) return ring.physical(cube, y);
-    const auto p = neck->physical(y);
-    if (!p) throw core::NumericalError("tmesh: a point of the connector lies outside its volume map");
-    return *p;
-  };
-  m.polycube = [where, ring, nk](int c, const tmesh::Vec3& x) {
-    const auto [cube, y] = where(c, x);
-    if (cube != nk) return ring.polycube(cube, y);
-    return tmesh::Vec3{y[0] + 30.0, y[1], y[2]};  // the rings lie within x < 13
-  };
+  set_connector_point_maps(m, where, ring, neck, nk);
   return m;
 }
 
@@ -535,18 +543,7 @@ tmesh::PolycubeMaps connector_maps(const std::string& in, std::vector<Ring> list
         }
     return *at;
   };
-  m.physical = [where, ring, neck, nk](int c, const tmesh::Vec3& x) {
-    const auto [cube, y] = where(c, x);
-    if (cube != nk) return ring.physical(cube, y);
-    const auto p = neck->physical(y);
-    if (!p) throw core::NumericalError("tmesh: a point of the connector lies outside its volume map");
-    return *p;
-  };
-  m.polycube = [where, ring, nk](int c, const tmesh::Vec3& x) {
-    const auto [cube, y] = where(c, x);
-    if (cube != nk) return ring.polycube(cube, y);
-    return tmesh::Vec3{y[0] + 30.0, y[1], y[2]};  // the rings lie within x < 13
-  };
+  set_connector_point_maps(m, where, ring, neck, nk);
   return m;
 }
 

@@ -121,13 +121,7 @@ std::optional<PatchMap> remap_through_marks(const split::Layout& L, const split:
       }
   }
   if (!marked) return std::nullopt;
-  const auto pos = harmonic_positions(L, P.triangles, fixed, params, "patch " + std::to_string(index));
-  PatchMap pm;
-  for (const auto& [v, x] : pos) pm.vertices.push_back(v), pm.st.push_back(x);
-  const MapQuality q = map_quality(L, P.triangles, pos);
-  pm.flipped_triangles = q.flipped_triangles;
-  pm.max_angle_distortion_deg = q.max_angle_distortion_deg;
-  return pm;
+  return solve_patch_map(L, P.triangles, fixed, params, "patch " + std::to_string(index));
 }
 
 }  // namespace

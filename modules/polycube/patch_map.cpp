@@ -187,15 +187,20 @@ std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapP
       const auto& b = corner[(k + 1) % 4];
       for (std::size_t i = 0; i < P.sides[k].size(); ++i) fixed[P.sides[k][i]] = {a[0] + frac[i] * (b[0] - a[0]), a[1] + frac[i] * (b[1] - a[1])};
     }
-    const auto at = harmonic_positions(L, P.triangles, fixed, params, "patch " + std::to_string(pi));
-    PatchMap m;
-    for (const auto& [v, x] : at) m.vertices.push_back(v), m.st.push_back(x);
-    const MapQuality q = map_quality(L, P.triangles, at);
-    m.flipped_triangles = q.flipped_triangles;
-    m.max_angle_distortion_deg = q.max_angle_distortion_deg;
-    out.push_back(std::move(m));
+    out.push_back(solve_patch_map(L, P.triangles, fixed, params, "patch " + std::to_string(pi)));
   }
   return out;
+}
+
+PatchMap solve_patch_map(const split::Layout& L, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& fixed,
+                         const PatchMapParams& params, const std::string& what) {
+  const auto at = harmonic_positions(L, triangles, fixed, params, what);
+  PatchMap m;
+  for (const auto& [v, x] : at) m.vertices.push_back(v), m.st.push_back(x);
+  const MapQuality q = map_quality(L, triangles, at);
+  m.flipped_triangles = q.flipped_triangles;
+  m.max_angle_distortion_deg = q.max_angle_distortion_deg;
+  return m;
 }
 
 }  // namespace volts::polycube

@@ -52,6 +52,11 @@ struct MapQuality {
 /// The triangles (layout ids, oriented consistently first) at the 2D positions `at`.
 MapQuality map_quality(const split::Layout& layout, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& at);
 
+/// The map of a patch's `triangles` with the vertices of `fixed` there and the rest by
+/// harmonic_positions, with its quality (map_quality); throws what harmonic_positions throws.
+PatchMap solve_patch_map(const split::Layout& layout, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& fixed,
+                         const PatchMapParams& params, const std::string& what);
+
 /// Maps every patch of a decomposition. Throws core::ConfigError for unknown weights,
 /// core::NumericalError if a patch's linear system cannot be solved.
 std::vector<PatchMap> map_patches(const split::Decomposition& d, const PatchMapParams& params);

@@ -408,14 +408,19 @@ std::vector<std::pair<double, double>> saddle_gaps(const std::vector<double>& f,
   return gaps;
 }
 
-// With a disk: sharp loops that can be the torus's four corner lines, or none (then the tube
-// field's levels are). The two disk lines: each rim arc on a longitudinal line closed by the
-// shortest path of sharp edges between its ends around the ring, off the disk (a box-like eye:
-// its outer edges); the other two: the only two other closed sharp loops around the ring (the
-// hole's rims). Returns the four loops' edges; a sharp edge anywhere else (an edge across the
-// tube, a junction) is left out, as it is without a disk.
-std::set<Edge> disk_corner_loops(const Mesh& mesh, const std::set<Edge>& sharp, const DiskPatch& disk, const DiskCuts& dc,
-                                 const std::vector<double>& u, const std::vector<double>& v) {
+// With a disk: sharp loops that can be the torus's corner lines, or none (then the tube field's
+// levels are). The two disk lines: each rim arc on a longitudinal line closed by the shortest
+// path of sharp edges between its ends around the ring, off the disk (a box-like eye: its outer
+// edges); if either has none, both are the tube field's levels through the arcs. The other two:
+// the only two other closed sharp loops around the ring (the hole's rims), kept off those levels.
+// A sharp edge anywhere else (an edge across the tube, a junction) is left out, as it is without
+// a disk.
+struct DiskCornerLoops {
+  std::set<Edge> edges;     // of the loops
+  bool disk_lines = false;  // the rim arcs' lines are among them (four loops), else two loops
+};
+DiskCornerLoops disk_corner_loops(const Mesh& mesh, const std::set<Edge>& sharp, const DiskPatch& disk, const DiskCuts& dc,
+                                  const std::vector<double>& u, const std::vector<double>& v) {
   if (sharp.empty()) return {};
   std::vector<char> in_disk(mesh.number_of_vertices(), 0);
   for (const auto* vs : {&disk.rim, &disk.inside})
@@ -446,11 +451,17 @@ std::set<Edge> disk_corner_loops(const Mesh& mesh, const std::set<Edge>& sharp, 
         q.push({nd, y});
       }
     }
-    if (!prev.count(to)) return {};
+    if (!prev.count(to)) {
+      loops.clear(), used.clear();
+      break;
+    }
     std::vector<int> loop = arc;  // from `to` to `from`, then back along the path
     for (int x = prev.at(to); x != from; x = prev.at(x)) loop.push_back(x);
     std::reverse(loop.begin() + static_cast<std::ptrdiff_t>(arc.size()), loop.end());
-    if (loop.size() < arc.size() + 2 || !around_ring(loop)) return {};
+    if (loop.size() < arc.size() + 2 || !around_ring(loop)) {
+      loops.clear(), used.clear();
+      break;
+    }
     used.insert(loop.begin(), loop.end());
     loops.push_back(std::move(loop));
   }
@@ -482,10 +493,16 @@ std::set<Edge> disk_corner_loops(const Mesh& mesh, const std::set<Edge>& sharp, 
       if (around_ring(l)) others.push_back(std::move(l));
   }
   if (others.size() != 2) return {};
+  DiskCornerLoops out;
+  out.disk_lines = !loops.empty();
+  if (!out.disk_lines)  // the levels through the arcs must not cross them
+    for (const auto& l : others)
+      for (int x : l)
+        for (const double level : dc.v_level)
+          if (std::abs(circle_difference(level, v[static_cast<std::size_t>(x)], 1.0)) < 0.05) return {};
   loops.insert(loops.end(), others.begin(), others.end());
-  std::set<Edge> out;
   for (const auto& l : loops)
-    for (std::size_t k = 0; k < l.size(); ++k) out.insert(edge(l[k], l[(k + 1) % l.size()]));
+    for (std::size_t k = 0; k < l.size(); ++k) out.edges.insert(edge(l[k], l[(k + 1) % l.size()]));
   return out;
 }
 
@@ -570,6 +587,7 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
   std::vector<double> v = periodic_harmonic_field(mesh, Lr);
   // A disk made one patch: u and v again, with its rim's arcs as level sets.
   std::optional<DiskCuts> dc;
+  bool disk_sharp_lines = false;  // with a disk: its rim arcs' lines are sharp loops
   std::vector<char> off_disk;  // face mask: the faces not in the disk (the disk's level sets are inserted outside it)
   if (disk) {
     for (int x : A)
@@ -586,7 +604,9 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
     for (auto fc : mesh.faces())
       for (auto x : CGAL::vertices_around_face(mesh.halfedge(fc), mesh))
         if (!in_disk[x]) off_disk[fc] = 1;
-    sharp = disk_corner_loops(mesh, sharp_in, *disk, *dc, u, v);
+    const DiskCornerLoops dl = disk_corner_loops(mesh, sharp_in, *disk, *dc, u, v);
+    sharp = dl.edges;
+    disk_sharp_lines = dl.disk_lines;
   }
   // Level k of count - 1 more levels after a disk's two (level[0], level[1], lifted: level[0] +
   // span), spread evenly over the rest of the turn but kept off the disk (whose range of the field
@@ -636,8 +656,12 @@ Decomposition split_torus(const Mesh& input, const std::set<Edge>& sharp_in, con
     for (const auto& l : lines) far &= !(l.corner && circ_dist(l.v, lines[i].v) < 0.125);
     if (far) lines[i].corner = true, ++corners;
   }
-  if (dc && !sharp.empty()) {  // the disk's sharp corner loops: all four are cube edges
+  if (dc && disk_sharp_lines) {  // the disk's sharp corner loops: all four are cube edges
     for (auto& l : lines) l.corner = true;
+    corners = 4;
+  } else if (dc && !sharp.empty()) {  // two lines closed by the disk's rim, two sharp loops
+    for (auto& l : lines) l.corner = true;
+    for (int i = 0; i < 2; ++i) lines.push_back({false, -1, dc->v_level[i], 0, 0, 0, true, i});
     corners = 4;
   } else if (dc) {  // two lines closed by the disk's rim, two spread over the rest of the tube
     for (int i = 0; i < 2; ++i) lines.push_back({false, -1, dc->v_level[i], 0, 0, 0, true, i});

@@ -483,6 +483,8 @@ TEST(Split, RodConnectorEndsOnTheShoulderOfItsSmallEye) {
 // rim arcs are closed around the ring by the eye's outer sharp edges and the other two corner
 // lines are the hole's sharp rims, so every sharp edge of the eye's cross section is a cube edge
 // (split without them, the lines ran up to 0.014 inside the outer edge and inside the hole wall).
+// The big eye's disk is a level cut (no sharp ends): its rim lines stay levels, its hole's rims
+// are the other two lines.
 TEST(Split, RodSmallEyesCornerLinesAreItsSharpEdges) {
   const surface::Mesh mesh = shared("loopycuts_rod_rem.obj");
   const classify::Classification c = classify::classify(mesh, {});
@@ -494,18 +496,14 @@ TEST(Split, RodSmallEyesCornerLinesAreItsSharpEdges) {
   const split::Decomposition d = split::split(mesh, c, p);
   check_decomposition(d);
   const int n_input = static_cast<int>(mesh.number_of_vertices());
-  int eye_lines = 0;
-  for (const auto& line : d.longitude_lines) {
-    bool eye = true;
-    for (const int v : line) eye = eye && d.layout.points[static_cast<std::size_t>(v)][0] > 0.82;
-    if (!eye) continue;
-    ++eye_lines;
-    int off_sharp = 0;
+  // Vertices of a line not on a sharp input edge (a vertex split has put on the line, where a cut
+  // crossed it, lies on one).
+  auto off_sharp = [&](const std::vector<int>& line) {
+    int off = 0;
     for (std::size_t k = 0; k < line.size(); ++k) {
       const int a = line[k], b = line[(k + 1) % line.size()];
-      if (a < n_input && b < n_input) off_sharp += !sharp.count(edge(a, b));
+      if (a < n_input && b < n_input) off += !sharp.count(edge(a, b));
     }
-    // A vertex split has put on the line (where a cut crossed it) lies on a sharp input edge.
     for (const int v : line) {
       if (v < n_input) continue;
       const auto& x = d.layout.points[static_cast<std::size_t>(v)];
@@ -519,11 +517,23 @@ TEST(Split, RodSmallEyesCornerLinesAreItsSharpEdges) {
         for (int q = 0; q < 3; ++q) dd += (pa[q] + t * (pb[q] - pa[q]) - x[q]) * (pa[q] + t * (pb[q] - pa[q]) - x[q]);
         best = std::min(best, std::sqrt(dd));
       }
-      off_sharp += best > 1e-9;
+      off += best > 1e-9;
     }
-    EXPECT_EQ(off_sharp, 0) << "eye line " << eye_lines;
+    return off;
+  };
+  int small_eye = 0, big_eye = 0, big_eye_sharp = 0;
+  for (const auto& line : d.longitude_lines) {
+    bool small = true, big = true;
+    for (const int v : line) small = small && d.layout.points[static_cast<std::size_t>(v)][0] > 0.82, big = big && d.layout.points[static_cast<std::size_t>(v)][0] < 0.3;
+    if (small) {
+      ++small_eye;
+      EXPECT_EQ(off_sharp(line), 0) << "small eye line " << small_eye;
+    }
+    if (big) ++big_eye, big_eye_sharp += off_sharp(line) == 0;
   }
-  EXPECT_EQ(eye_lines, 4);
+  EXPECT_EQ(small_eye, 4);
+  EXPECT_EQ(big_eye, 4);
+  EXPECT_EQ(big_eye_sharp, 2);
 }
 
 TEST(Split, EightWithAConnectorIsTwoToriAndANeckCubeOnTheirDisks) {
