@@ -229,6 +229,21 @@ TEST(PolycubeInput, RodsEyeStandsOnTheDisksStripOfTheConnectorsLensedEnd) {
   EXPECT_GT(surface_faces, 0);
   EXPECT_GT(lens_faces, 0) << "no pillow under the lenses";
   EXPECT_LT(off_surface, 1e-6 * diag);
+  // A corrupt end_strip is refused naming the file and the member.
+  const std::string bad = (d / "bad.json").string();
+  for (const char* edit : {R"({"lo": 0.9})", R"({"axis": 0})", R"({"corner_vertex": [0, 1, 2, 1000000000]})", R"({"hi": "top"})"}) {
+    core::Json k = j;
+    const core::Json change = core::Json::parse(edit);
+    for (auto it = change.begin(); it != change.end(); ++it) k["connectors"][0]["end_strip"][it.key()] = *it;
+    test::write_text(bad, k.dump());
+    try {
+      pipeline::read_polycube_input(bad, tmesh::Params{});
+      ADD_FAILURE() << edit << " accepted";
+    } catch (const core::InvalidInputError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("end_strip"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
