@@ -34,6 +34,18 @@ std::string torus_polycube_file(const std::string& name) {
   return r.code == 0 ? (d / "w" / "polycube.stage.json").string() : std::string();
 }
 
+// read_polycube_input refuses `file` (written with one corruption, `what`) with an
+// InvalidInputError naming the file and `member`.
+void expect_refused(const std::string& file, const std::string& member, const std::string& what) {
+  try {
+    pipeline::read_polycube_input(file, tmesh::Params{});
+    ADD_FAILURE() << what << " accepted";
+  } catch (const core::InvalidInputError& e) {
+    EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(member), std::string::npos) << e.what();
+  }
+}
+
 TEST(PolycubeInput, RingPointsOnTheRoundFacesLieOnTheSurface) {
   // The generated torus at resolution 16 (coarse: the chords of the round ring's faces are long).
   // Through the tets, the inner round face's points lay up to the chords' sagitta inside the
@@ -109,13 +121,7 @@ TEST(PolycubeInput, RingCutsBecomeBlockFacesAndBadCutsNameTheFile) {
   for (const char* bad : {"[[0.5], [], []]", "[[], [0.6, 0.3], []]", "[[], [1.2], []]", "{\"b\": 1}"}) {
     j["polycube"]["cuts"] = core::Json::parse(bad);
     test::write_text(cut, j.dump());
-    try {
-      pipeline::read_polycube_input(cut, tmesh::Params{});
-      ADD_FAILURE() << bad << " accepted";
-    } catch (const core::InvalidInputError& e) {
-      EXPECT_NE(std::string(e.what()).find(cut), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find("cuts"), std::string::npos) << e.what();
-    }
+    expect_refused(cut, "cuts", bad);
   }
 }
 
@@ -155,21 +161,10 @@ TEST(PolycubeInput, ProfileRingsHaveACubePerCellAndSectorAndBadProfilesNameTheFi
                           R"({"b": [0, 1], "c": [0, 1], "cells": []})", R"({"b": 1})"}) {
     j["polycube"]["profile"] = core::Json::parse(bad);
     test::write_text(plus, j.dump());
-    try {
-      pipeline::read_polycube_input(plus, tmesh::Params{});
-      ADD_FAILURE() << bad << " accepted";
-    } catch (const core::InvalidInputError& e) {
-      EXPECT_NE(std::string(e.what()).find(plus), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find("profile"), std::string::npos) << e.what();
-    }
+    expect_refused(plus, "profile", bad);
   }
 }
 
-}  // namespace
-}  // namespace volts
-
-namespace volts {
-namespace {
 
 // The rod with its small end on the shoulder (examples/rod.yaml): the connector's end face is
 // the eye's disk between two lenses, and the eye's ring stands on the disk's strip only. Every
@@ -236,13 +231,7 @@ TEST(PolycubeInput, RodsEyeStandsOnTheDisksStripOfTheConnectorsLensedEnd) {
     const core::Json change = core::Json::parse(edit);
     for (auto it = change.begin(); it != change.end(); ++it) k["connectors"][0]["end_strip"][it.key()] = *it;
     test::write_text(bad, k.dump());
-    try {
-      pipeline::read_polycube_input(bad, tmesh::Params{});
-      ADD_FAILURE() << edit << " accepted";
-    } catch (const core::InvalidInputError& e) {
-      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find("end_strip"), std::string::npos) << e.what();
-    }
+    expect_refused(bad, "end_strip", edit);
   }
 }
 
