@@ -1,10 +1,12 @@
 // volts-tmesh: stage 4 (Liu et al. §5.1–5.2). Reads polycube.stage.json, builds the octree T-mesh
 // (control mesh) through the volume map; writes tmesh.stage.json and tmesh.vtu.
 #include <limits>
+#include <memory>
 
 #include "core/log.h"
 #include "polycube_input.h"
 #include "stage_main.h"
+#include "surface/mesh_json.h"
 #include "tmesh/optimize.h"
 #include "tmesh/tmesh.h"
 
@@ -34,7 +36,15 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     op.joint_window = ctx.config.tmesh.joint_window;
     // Optimize the figure extract reports: its Gauss points (0 = degree + 1) and the corners.
     op.gauss_points = ctx.config.extract.gauss_points > 0 ? ctx.config.extract.gauss_points : ctx.config.tmesh.degree + 1;
-    opt = tmesh::optimize(ts, op);
+    std::unique_ptr<tmesh::SlideSurface> slide;
+    if (ctx.config.tmesh.slide_surface) {
+      const surface::Mesh mesh = surface::mesh_from_json(surface, ctx.input_file("polycube"));
+      std::vector<std::array<int, 3>> triangles;
+      for (const auto& f : surface::triangle_array(mesh)) triangles.push_back({f.at(0), f.at(1), f.at(2)});
+      slide = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), triangles);
+      core::log("surface nodes slide along the input surface (" + std::to_string(slide->sharp_edges()) + " sharp edges keep theirs)");
+    }
+    opt = tmesh::optimize(ts, op, slide.get());
   }
   {
     core::LogSection s("write");
@@ -49,7 +59,8 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
                          {"bezier_min_scaled_jacobian_before", opt.min_before}, {"bezier_min_scaled_jacobian_after", opt.min_after},
                          {"not_certified_valid_before", opt.invalid_before}, {"not_certified_valid_after", opt.invalid_after},
                          {"stop_reason", opt.stop_reason}, {"sweeps_cut_at_node_bound", opt.sweeps_cut_at_node_bound},
-                         {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds}};
+                         {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds},
+                         {"surface_nodes_slid", opt.surface_nodes_slid}};
   core::log(std::to_string(fig["blocks"].get<int>()) + " blocks, " + std::to_string(fig["elements"].get<int>()) + " elements, " +
             std::to_string(fig["nodes"].get<int>()) + " nodes, min control-net scaled Jacobian " + std::to_string(after));
   return fig;

@@ -202,8 +202,10 @@ class Spline {
     return false;
   }
 
-  // Distance to the nearest control-net neighbour (in any block).
-  double neighbour_distance(int id) const {
+  // Distance to the nearest control-net neighbour (in any block); with `surface_only`, to the
+  // nearest one on the surface (a surface node's pillow copy lies just under it: that distance
+  // does not bound a move along the surface).
+  double neighbour_distance(int id, bool surface_only = false) const {
     double d = std::numeric_limits<double>::infinity();
     const auto x = position(id);
     for (const auto& [b, i] : occurrences_[static_cast<std::size_t>(id)]) {
@@ -213,6 +215,7 @@ class Spline {
       for (int a = 0; a < 3; ++a)
         for (int s = -1; s <= 1; s += 2) {
           if (idx[a] + s < 0 || idx[a] + s >= t.size[a]) continue;
+          if (surface_only && !on_surface(point_id_[static_cast<std::size_t>(b)][static_cast<std::size_t>(i + s * stride[a])])) continue;
           const auto& y = t.control_points[static_cast<std::size_t>(i + s * stride[a])];
           const double l = std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
           if (l > 0) d = std::min(d, l);
@@ -555,6 +558,35 @@ double scaled_jacobian_gradient(const Eigen::Matrix3d& J, Eigen::Matrix3d& G) {
   return sj;
 }
 
+// A surface node's frame for sliding: its tangent plane at the closest surface point (two unit
+// vectors), its offset from the surface (kept), and its reach: half the distance to its nearest
+// surface neighbour in the net, and less than 1/1.5 of the distance to the nearest sharp edge, so
+// no move in the box [-reach, reach]^2 (at most √2 reach) gets to a sharp edge. Returns false for a
+// node that may not slide: on or next to a sharp curve or corner (reach below 5 % of its share).
+struct SlideFrame {
+  bool sliding = false;
+  Eigen::Vector3d origin, offset, t1, t2;
+  double reach = 0;
+};
+
+bool slide_frame(const Spline& s, const SlideSurface& surface, int id, SlideFrame& f) {
+  const auto p = s.position(id);
+  Vec3 n;
+  const Vec3 c = surface.closest(p, &n);
+  const double share = 0.5 * s.neighbour_distance(id, true);
+  if (!std::isfinite(share) || share <= 0) return false;
+  const double reach = std::min(share, surface.sharp_distance(c) / 1.5);
+  const Eigen::Vector3d N(n[0], n[1], n[2]);
+  if (!(reach >= 0.05 * share) || N.squaredNorm() < 0.5) return false;
+  f.sliding = true;
+  f.origin = Eigen::Vector3d(p[0], p[1], p[2]);
+  f.offset = f.origin - Eigen::Vector3d(c[0], c[1], c[2]);
+  f.t1 = N.cross(std::abs(N.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).normalized();
+  f.t2 = N.cross(f.t1);
+  f.reach = reach;
+  return true;
+}
+
 // The joint phase (OptimizeParams::joint_rounds): the interior nodes of the elements below the
 // target move together, by NLopt's L-BFGS on a smooth soft minimum of the scaled Jacobian over
 // the samples of every element they support,
@@ -564,13 +596,16 @@ double scaled_jacobian_gradient(const Eigen::Matrix3d& J, Eigen::Matrix3d& G) {
 // step can. Where the step costs an element its certificate (or its figure falls below the worst
 // one), the nodes of that element go back (see the acceptance below).
 void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, core::ThreadPool& pool,
-                 const OptimizeParams& params, OptimizeResult& r) {
+                 const OptimizeParams& params, const SlideSurface* surface, OptimizeResult& r) {
   const bezier::CertifyParams cp;
   double window = 0;  // > 0: only elements within it of the worst figure (OptimizeParams::joint_window)
   for (int round = 0; round < params.joint_rounds; ++round) {
-    // Variables: interior nodes of the elements below the target (or not certified valid).
-    std::vector<int> var_of;  // per node id: variable index or -1
+    // Variables: interior nodes of the elements below the target (or not certified valid), three
+    // coordinates each, and with a surface its nodes that may slide, two tangent coordinates each.
+    std::vector<int> var_of;  // per node id: variable index, -1 not seen yet, -2 fixed
     std::vector<int> ids;
+    std::vector<std::size_t> first;  // per variable: its first coordinate in x
+    std::vector<SlideFrame> frame;   // per variable: empty for an interior node
     double select = params.target;
     if (window > 0) {
       double lowest = std::numeric_limits<double>::infinity();
@@ -582,10 +617,16 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       for (const int local : s.points_of(e)) {
         const int id = s.id_of(s.block_of(e), local);
         if (static_cast<std::size_t>(id) >= var_of.size()) var_of.resize(static_cast<std::size_t>(id) + 1, -1);
-        if (var_of[static_cast<std::size_t>(id)] < 0 && !s.on_surface(id)) {
-          var_of[static_cast<std::size_t>(id)] = static_cast<int>(ids.size());
-          ids.push_back(id);
+        if (var_of[static_cast<std::size_t>(id)] != -1) continue;
+        SlideFrame f;
+        if (s.on_surface(id) && !(surface && slide_frame(s, *surface, id, f))) {
+          var_of[static_cast<std::size_t>(id)] = -2;
+          continue;
         }
+        var_of[static_cast<std::size_t>(id)] = static_cast<int>(ids.size());
+        ids.push_back(id);
+        first.push_back(first.empty() ? 0 : first.back() + (frame.back().sliding ? 2 : 3));
+        frame.push_back(f);
       }
     }
     if (ids.empty()) return;
@@ -600,18 +641,38 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     double before = std::numeric_limits<double>::infinity();
     int invalid_before = 0;
     for (const int e : els) before = std::min(before, q[static_cast<std::size_t>(e)].scaled), invalid_before += q[static_cast<std::size_t>(e)].valid ? 0 : 1;
-    std::vector<double> x0(3 * ids.size()), lower(x0.size()), upper(x0.size());
+    std::vector<double> x0(first.back() + (frame.back().sliding ? 2 : 3)), lower(x0.size()), upper(x0.size());
     for (std::size_t v = 0; v < ids.size(); ++v) {
+      if (frame[v].sliding) {  // tangent coordinates, 0 at the start
+        for (std::size_t d = 0; d < 2; ++d) lower[first[v] + d] = -frame[v].reach, upper[first[v] + d] = frame[v].reach;
+        continue;
+      }
       const auto p = s.position(ids[v]);
       const double h = 0.5 * s.neighbour_distance(ids[v]);
       for (int d = 0; d < 3; ++d) {
-        x0[3 * v + static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)];
-        lower[3 * v + static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)] - (std::isfinite(h) ? h : 0.0);
-        upper[3 * v + static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)] + (std::isfinite(h) ? h : 0.0);
+        x0[first[v] + static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)];
+        lower[first[v] + static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)] - (std::isfinite(h) ? h : 0.0);
+        upper[first[v] + static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)] + (std::isfinite(h) ? h : 0.0);
       }
     }
-    auto set_all = [&](const std::vector<double>& x) {
-      for (std::size_t v = 0; v < ids.size(); ++v) s.set_position(ids[v], {x[3 * v], x[3 * v + 1], x[3 * v + 2]});
+    // The position of variable v at x. A sliding node moves in its tangent plane while L-BFGS
+    // runs (the objective and its gradient are then exact); the step that is checked and kept has
+    // it projected back onto the surface at its offset from it (`project`).
+    auto place = [&](std::size_t v, const std::vector<double>& x, bool project) -> std::array<double, 3> {
+      const std::size_t at = first[v];
+      const SlideFrame& f = frame[v];
+      if (!f.sliding) return {x[at], x[at + 1], x[at + 2]};
+      if (x[at] == 0 && x[at + 1] == 0) return {f.origin.x(), f.origin.y(), f.origin.z()};
+      Eigen::Vector3d y = f.origin + x[at] * f.t1 + x[at + 1] * f.t2;
+      if (project) {
+        const Eigen::Vector3d on = y - f.offset;
+        const Vec3 c = surface->closest({on.x(), on.y(), on.z()});
+        y = Eigen::Vector3d(c[0], c[1], c[2]) + f.offset;
+      }
+      return {y.x(), y.y(), y.z()};
+    };
+    auto set_all = [&](const std::vector<double>& x, bool project) {
+      for (std::size_t v = 0; v < ids.size(); ++v) s.set_position(ids[v], place(v, x, project));
     };
     // Per element: its samples' scaled Jacobians and their gradients (one degree per run of
     // blocks is the common case; the table is per degree).
@@ -633,7 +694,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     std::vector<double> reached;  // the first point whose samples are all at the target
     auto objective = [&](const std::vector<double>& x, std::vector<double>& grad) {
       ++evaluations;
-      set_all(x);
+      set_all(x, false);
       pool.for_each(els.size(), [&](std::size_t k) {
         const std::size_t e = static_cast<std::size_t>(els[k]);
         thread_local std::vector<Eigen::Vector3d> points;
@@ -691,7 +752,13 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
             const int id = s.id_of(s.block_of(e), pts[j]);
             const int v = static_cast<std::size_t>(id) < var_of.size() ? var_of[static_cast<std::size_t>(id)] : -1;
             if (v < 0) continue;
-            for (int d = 0; d < 3; ++d) grad[3 * static_cast<std::size_t>(v) + static_cast<std::size_t>(d)] += dP[k][j][d];
+            const std::size_t at = first[static_cast<std::size_t>(v)];
+            const SlideFrame& f = frame[static_cast<std::size_t>(v)];
+            if (f.sliding) {
+              grad[at] += f.t1.dot(dP[k][j]), grad[at + 1] += f.t2.dot(dP[k][j]);
+              continue;
+            }
+            for (std::size_t d = 0; d < 3; ++d) grad[at + d] += dP[k][j][static_cast<Eigen::Index>(d)];
           }
         }
       }
@@ -735,7 +802,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       Step t;
       t.y.resize(x0.size());
       for (std::size_t i = 0; i < x0.size(); ++i) t.y[i] = x0[i] + alpha * (x[i] - x0[i]);
-      set_all(t.y);
+      set_all(t.y, true);
       t.now.resize(els.size()), t.js.resize(els.size());
       std::vector<char> dirty(els.size(), 1), back(ids.size(), 0);
       for (;;) {
@@ -760,9 +827,9 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
             const int v = static_cast<std::size_t>(id) < var_of.size() ? var_of[static_cast<std::size_t>(id)] : -1;
             if (v < 0 || back[static_cast<std::size_t>(v)]) continue;
             back[static_cast<std::size_t>(v)] = 1, ++t.reverted;
-            const std::size_t at = 3 * static_cast<std::size_t>(v);
-            for (std::size_t d = 0; d < 3; ++d) t.y[at + d] = x0[at + d];
-            s.set_position(id, {x0[at], x0[at + 1], x0[at + 2]});
+            const std::size_t at = first[static_cast<std::size_t>(v)];
+            for (std::size_t d = 0; d < (frame[static_cast<std::size_t>(v)].sliding ? 2u : 3u); ++d) t.y[at + d] = x0[at + d];
+            s.set_position(id, place(static_cast<std::size_t>(v), x0, false));
             for (const int e2 : s.elements_of(id)) dirty[static_cast<std::size_t>(index_of[static_cast<std::size_t>(e2)])] = 1;
           }
         }
@@ -780,10 +847,14 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     const bool accepted = best.worst > before + 1e-9 || best.invalid < invalid_before;
     const double after = accepted ? best.worst : before;
     const int invalid = accepted ? best.invalid : invalid_before, reverted = best.reverted;
-    set_all(accepted ? best.y : x0);
+    set_all(accepted ? best.y : x0, true);
+    int slid = 0;
+    for (std::size_t v = 0; v < ids.size() && accepted; ++v)
+      slid += frame[v].sliding && (best.y[first[v]] != 0 || best.y[first[v] + 1] != 0) ? 1 : 0;
+    if (accepted) r.surface_nodes_slid += slid;
     if (accepted)
       for (std::size_t k = 0; k < els.size(); ++k) q[static_cast<std::size_t>(els[k])] = best.now[k], samples[static_cast<std::size_t>(els[k])] = std::move(best.js[k]);
-    core::log("joint round " + std::to_string(round + 1) + ": " + std::to_string(ids.size()) + " nodes, " + std::to_string(els.size()) +
+    core::log("joint round " + std::to_string(round + 1) + ": " + std::to_string(ids.size()) + " nodes (" + std::to_string(slid) + " slid along the surface), " + std::to_string(els.size()) +
               " elements, " + std::to_string(evaluations) + " evaluations, worst sampled scaled Jacobian " + std::to_string(before) + " -> " +
               std::to_string(after) + ", not certified valid " + std::to_string(invalid_before) + " -> " +
               std::to_string(invalid) + ", " + std::to_string(reverted) + " nodes put back" +
@@ -805,7 +876,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
 
 }  // namespace
 
-OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params) {
+OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
   if (params.sweeps < 0 || params.sweeps > 100) throw core::ConfigError("tmesh.optimize_sweeps must be in [0, 100], got " + std::to_string(params.sweeps));
   if (params.gauss_points < 1 || params.gauss_points > 10 || params.max_evaluations < 1)
     throw core::ConfigError("tmesh optimization: gauss_points must be in [1, 10] and max_evaluations >= 1");
@@ -842,7 +913,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     for (const auto& x : q) *worst = std::min(*worst, x.scaled), *invalid += x.valid ? 0 : 1;
   };
   summary(&r.min_before, &r.invalid_before);
-  if (params.sweeps > 0) joint_phase(s, q, samples, pool, params, r);
+  if (params.sweeps > 0) joint_phase(s, q, samples, pool, params, surface, r);
   double last_worst = 0;
   int last_invalid = 0, stalled = 0;
   summary(&last_worst, &last_invalid);

@@ -14,8 +14,10 @@
 // points not yet moved in this sweep are optimized one at a time. Nodes are the spline's global
 // functions (control points shared by blocks move together). Node types as in the paper's
 // smoothing: nodes on the surface (on a block face marked boundary, which includes sharp corners
-// and sharp-curve nodes) stay fixed in both phases — stricter than the paper, which slides them
-// along the surface; interior nodes move freely within half the distance to their nearest net
+// and sharp-curve nodes) stay fixed, except that given the input surface (slide_surface.h) the
+// joint rounds slide those with no sharp edge within their reach along it (two tangent
+// coordinates each, projected back onto the surface at their offset from it before the step is
+// checked): sharp corners and sharp-curve nodes stay where they are; interior nodes move freely within half the distance to their nearest net
 // neighbour. Per node the objective is the minimum sampled scaled Jacobian of the Bézier elements
 // it supports; it is a minimum (not smooth), so NLopt's derivative-free BOBYQA maximizes it. A
 // move (or a joint round) is kept only if the worst scaled Jacobian of its elements rises and
@@ -27,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "tmesh/slide_surface.h"
 #include "tmesh/tmesh.h"
 
 namespace volts::tmesh {
@@ -96,10 +99,13 @@ struct OptimizeResult {
   double trilinear_before = 0, trilinear_after = 0;  ///< worst scaled Jacobian of the trilinear T-mesh elements around that phase
   int trilinear_nodes_moved = 0;
   int joint_rounds = 0;  ///< joint rounds kept
+  int surface_nodes_slid = 0;  ///< surface nodes the kept joint rounds moved along the surface (counted once per round)
 };
 
 /// Moves interior control points of `blocks` (in place, shared ids together) to raise the worst
-/// scaled Jacobian of the Bézier elements. Throws core::ConfigError for parameters out of range.
-OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params);
+/// scaled Jacobian of the Bézier elements; with `surface`, the joint rounds also slide surface
+/// control points along it where no sharp edge is within their reach (nullptr: surface control
+/// points stay fixed). Throws core::ConfigError for parameters out of range.
+OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface = nullptr);
 
 }  // namespace volts::tmesh

@@ -34,6 +34,9 @@ struct Params {
   int joint_evaluations = 100;
   double joint_sharpness = 40;
   double joint_window = 0.1;
+  /// The joint rounds slide surface nodes along the input surface where no sharp edge is within
+  /// their reach (optimize(); Liu et al. §5.2 "surface nodes on the surface"); false = fixed.
+  bool slide_surface = false;
 };
 
 using Vec3 = std::array<double, 3>;

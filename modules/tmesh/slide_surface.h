@@ -1,0 +1,36 @@
+// volts::tmesh — the input surface as the optimization's surface nodes see it (Liu et al. 2013
+// §5.2, smoothing and optimization by node type: "surface nodes on the surface", sharp curves and
+// corners kept). Closest points and the distance to the nearest sharp edge, both by CGAL AABB
+// trees; a surface control point may slide where no sharp edge is within its reach.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "tmesh/tmesh.h"
+
+namespace volts::tmesh {
+
+class SlideSurface {
+ public:
+  /// A closed triangle mesh; an edge is sharp if its two faces' normals differ by more than
+  /// `sharp_angle_deg` (classify's rule and default). Throws core::InvalidInputError for an empty
+  /// mesh or a triangle index out of range.
+  SlideSurface(const std::vector<Vec3>& vertices, const std::vector<std::array<int, 3>>& triangles, double sharp_angle_deg = 30.0);
+  ~SlideSurface();
+  SlideSurface(SlideSurface&&) noexcept;
+  SlideSurface& operator=(SlideSurface&&) noexcept;
+
+  /// The closest point of the surface to p and, if `normal` is given, the unit normal of its triangle.
+  Vec3 closest(const Vec3& p, Vec3* normal = nullptr) const;
+  /// Distance from p to the nearest sharp edge; +infinity if the surface has none.
+  double sharp_distance(const Vec3& p) const;
+  int sharp_edges() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace volts::tmesh
