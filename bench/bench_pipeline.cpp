@@ -65,9 +65,9 @@ const std::vector<Model>& all_models() {
       {"cinolib_torus", "", "cinolib_torus.obj", 24, &kTorus, 0.5},
       {"eight", "", "cfwen_eight.off", 24, &kEight, 0.4},
       // The shank runs almost to the eyes: cut there (at 0.5 each ring keeps half the shank), the
-      // small end on the shoulder; longer joint rounds (examples/rod.yaml).
+      // small end on the shoulder; longer joint rounds, sliding from the start (examples/rod.yaml).
       {"rod", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4,
-       "split: {connector_cut: 0.85, connector_end: shoulder}\ntmesh: {joint_evaluations: 300}"},
+       "split: {connector_cut: 0.85, connector_end: shoulder}\ntmesh: {joint_evaluations: 300, slide_from: start}"},
       {"tube", "", "vhacd_tube1.off", 24, nullptr},
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},

@@ -34,6 +34,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     op.joint_evaluations = ctx.config.tmesh.joint_evaluations;
     op.joint_sharpness = ctx.config.tmesh.joint_sharpness;
     op.joint_window = ctx.config.tmesh.joint_window;
+    op.slide_from_start = ctx.config.tmesh.slide_from == "start";
     // Optimize the figure extract reports: its Gauss points (0 = degree + 1) and the corners.
     op.gauss_points = ctx.config.extract.gauss_points > 0 ? ctx.config.extract.gauss_points : ctx.config.tmesh.degree + 1;
     std::unique_ptr<tmesh::SlideSurface> slide;

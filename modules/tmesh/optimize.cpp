@@ -913,7 +913,12 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     for (const auto& x : q) *worst = std::min(*worst, x.scaled), *invalid += x.valid ? 0 : 1;
   };
   summary(&r.min_before, &r.invalid_before);
-  if (params.sweeps > 0) joint_phase(s, q, samples, pool, params, surface, r);
+  if (params.sweeps > 0) {
+    // Surface nodes fixed first, then (given the surface) sliding from where those rounds stopped:
+    // every kept round raises the worst figure, so sliding can only add to the fixed result.
+    if (!surface || !params.slide_from_start) joint_phase(s, q, samples, pool, params, nullptr, r);
+    if (surface) joint_phase(s, q, samples, pool, params, surface, r);
+  }
   double last_worst = 0;
   int last_invalid = 0, stalled = 0;
   summary(&last_worst, &last_invalid);

@@ -36,7 +36,10 @@ struct Params {
   double joint_window = 0.1;
   /// The joint rounds slide surface nodes along the input surface where no sharp edge is within
   /// their reach (optimize(); Liu et al. §5.2 "surface nodes on the surface"); false = fixed.
-  bool slide_surface = false;
+  bool slide_surface = true;
+  /// When they start sliding: "stall" (once the rounds with fixed surface nodes stop) or "start"
+  /// (OptimizeParams::slide_from_start).
+  std::string slide_from = "stall";
 };
 
 using Vec3 = std::array<double, 3>;
