@@ -55,6 +55,22 @@ TEST(Config, JointOptimizationAndConnectorSmoothingKeys) {
   EXPECT_NE(config_error("tmesh: {joint_rounds: 101}\n").find("tmesh.joint_rounds: 101 is out of range [0, 100]"), std::string::npos);
 }
 
+// Surface sliding: on by default, sliding once the fixed rounds stop (the library's default too);
+// "start" survives the round trip, and an unknown mode is refused naming the key.
+TEST(Config, SlideSurfaceKeys) {
+  const config::Config file = config::load_config(std::string(VOLTS_SOURCE_DIR) + "/configs/default.yaml");
+  EXPECT_TRUE(file.tmesh.slide_surface);
+  EXPECT_EQ(file.tmesh.slide_from, "stall");
+  EXPECT_FALSE(tmesh::OptimizeParams{}.slide_from_start);
+  const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start}\n", "t");
+  const auto d = config::parse_config(config::to_yaml(c), "emitted");
+  EXPECT_FALSE(d.tmesh.slide_surface);
+  EXPECT_EQ(d.tmesh.slide_from, "start");
+  const std::string e = config_error("tmesh: {slide_from: always}\n");
+  EXPECT_NE(e.find("tmesh.slide_from"), std::string::npos) << e;
+  EXPECT_NE(e.find("'always' is not one of"), std::string::npos) << e;
+}
+
 TEST(Config, ValuesAreRead) {
   const auto c = config::parse_config("input: {generate: torus, resolution: 32}\ntmesh: {level: 5}\nclassify: {sharp_angle_deg: 45.5}\n", "t");
   EXPECT_EQ(c.input.generate, "torus");
