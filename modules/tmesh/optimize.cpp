@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -854,7 +855,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     if (accepted) r.surface_nodes_slid += slid;
     if (accepted)
       for (std::size_t k = 0; k < els.size(); ++k) q[static_cast<std::size_t>(els[k])] = best.now[k], samples[static_cast<std::size_t>(els[k])] = std::move(best.js[k]);
-    core::log("joint round " + std::to_string(round + 1) + ": " + std::to_string(ids.size()) + " nodes (" + std::to_string(slid) + " slid along the surface), " + std::to_string(els.size()) +
+    core::log(std::string(surface ? "sliding" : "joint") + " round " + std::to_string(round + 1) + ": " + std::to_string(ids.size()) + " nodes (" + std::to_string(slid) + " slid along the surface), " + std::to_string(els.size()) +
               " elements, " + std::to_string(evaluations) + " evaluations, worst sampled scaled Jacobian " + std::to_string(before) + " -> " +
               std::to_string(after) + ", not certified valid " + std::to_string(invalid_before) + " -> " +
               std::to_string(invalid) + ", " + std::to_string(reverted) + " nodes put back" +
@@ -916,12 +917,20 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   if (params.sweeps > 0) {
     // Surface nodes fixed first, then (given the surface) sliding from where those rounds stopped:
     // every kept round raises the worst figure, so sliding can only add to the fixed result.
-    if (!surface || !params.slide_from_start) joint_phase(s, q, samples, pool, params, nullptr, r);
-    if (surface) joint_phase(s, q, samples, pool, params, surface, r);
+    if (!surface || !params.slide_from_start) {
+      core::LogSection phase("joint rounds");
+      joint_phase(s, q, samples, pool, params, nullptr, r);
+    }
+    if (surface) {
+      core::LogSection phase("sliding rounds (joint rounds with surface nodes along the surface)");
+      joint_phase(s, q, samples, pool, params, surface, r);
+    }
   }
   double last_worst = 0;
   int last_invalid = 0, stalled = 0;
   summary(&last_worst, &last_invalid);
+  std::optional<core::LogSection> sweeps_phase;
+  if (params.sweeps > 0) sweeps_phase.emplace("per-node sweeps");
   for (int sweep = 0; sweep < params.sweeps; ++sweep) {
     std::vector<std::size_t> bad;
     for (std::size_t e = 0; e < s.size(); ++e)
@@ -1097,7 +1106,11 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
       core::log_warning("optimization stopped at its bound of " + std::to_string(params.sweeps) +
                         " sweeps (tmesh.optimize_sweeps) while moves still raised the worst scaled Jacobian");
   }
-  trilinear_phase(s, q, samples, pool, params, r);
+  sweeps_phase.reset();
+  {
+    core::LogSection phase("trilinear pass");
+    trilinear_phase(s, q, samples, pool, params, r);
+  }
   summary(&r.min_after, &r.invalid_after);
   return r;
 }
