@@ -35,6 +35,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     op.joint_sharpness = ctx.config.tmesh.joint_sharpness;
     op.joint_window = ctx.config.tmesh.joint_window;
     op.slide_from_start = ctx.config.tmesh.slide_from == "start";
+    op.slide_sharp_curves = ctx.config.tmesh.slide_sharp_curves;
     // Optimize the figure extract reports: its Gauss points (0 = degree + 1) and the corners.
     op.gauss_points = ctx.config.extract.gauss_points > 0 ? ctx.config.extract.gauss_points : ctx.config.tmesh.degree + 1;
     std::unique_ptr<tmesh::SlideSurface> slide;
@@ -43,7 +44,8 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
       std::vector<std::array<int, 3>> triangles;
       for (const auto& f : surface::triangle_array(mesh)) triangles.push_back({f.at(0), f.at(1), f.at(2)});
       slide = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), triangles);
-      core::log("surface nodes slide along the input surface (" + std::to_string(slide->sharp_edges()) + " sharp edges keep theirs)");
+      core::log("surface nodes slide along the input surface (" + std::to_string(slide->sharp_edges()) + " sharp edges, " +
+                std::to_string(slide->sharp_corners()) + " sharp corners" + (op.slide_sharp_curves ? ", sharp-curve nodes along their curve)" : " keep theirs)"));
     }
     opt = tmesh::optimize(ts, op, slide.get());
   }

@@ -230,6 +230,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("joint_window", c.tmesh.joint_window, 0.0, 1.0);
     s.get("slide_surface", c.tmesh.slide_surface);
     s.get("slide_from", c.tmesh.slide_from, {"stall", "start"});
+    s.get("slide_sharp_curves", c.tmesh.slide_sharp_curves);
     s.finish();
   }
   {
@@ -401,7 +402,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "joint_sharpness" << YAML::Value << c.tmesh.joint_sharpness;
   e << YAML::Key << "joint_window" << YAML::Value << c.tmesh.joint_window;
   e << YAML::Key << "slide_surface" << YAML::Value << c.tmesh.slide_surface;
-  e << YAML::Key << "slide_from" << YAML::Value << c.tmesh.slide_from << YAML::EndMap;
+  e << YAML::Key << "slide_from" << YAML::Value << c.tmesh.slide_from;
+  e << YAML::Key << "slide_sharp_curves" << YAML::Value << c.tmesh.slide_sharp_curves << YAML::EndMap;
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;

@@ -559,32 +559,51 @@ double scaled_jacobian_gradient(const Eigen::Matrix3d& J, Eigen::Matrix3d& G) {
   return sj;
 }
 
-// A surface node's frame for sliding: its tangent plane at the closest surface point (two unit
-// vectors), its offset from the surface (kept), and its reach: half the distance to its nearest
-// surface neighbour in the net, and less than 1/1.5 of the distance to the nearest sharp edge, so
-// no move in the box [-reach, reach]^2 (at most √2 reach) gets to a sharp edge. Returns false for a
-// node that may not slide: on or next to a sharp curve or corner (reach below 5 % of its share).
+// A surface node's frame for sliding. Away from sharp curves: its tangent plane at the closest
+// surface point (two unit vectors t1, t2), its offset from the surface (kept), and its reach: half
+// the distance to its nearest surface neighbour in the net, and less than 1/1.5 of the distance
+// to the nearest sharp edge, so no move in the box [-reach, reach]^2 (at most √2 reach) gets to a
+// sharp edge. On a sharp curve (its closest surface point within 5 % of that share of the curve),
+// with `curves`: the curve's direction (t1 alone), its offset from the curve, and a reach less than
+// 1/1.5 of the distance to the nearest sharp corner, so it moves along the curve and corners stay.
+// Returns false for a node that may not slide (near a sharp curve but not on it, or near a corner).
 struct SlideFrame {
-  bool sliding = false;
+  int dims = 0;  // 0: an interior node (3 coordinates); 2: along the surface; 1: along a sharp curve
   Eigen::Vector3d origin, offset, t1, t2;
   double reach = 0;
 };
 
-bool slide_frame(const Spline& s, const SlideSurface& surface, int id, SlideFrame& f) {
+// Coordinates of a variable: x, y, z for an interior node, else its sliding dimensions.
+std::size_t width(const SlideFrame& f) { return f.dims == 0 ? 3u : static_cast<std::size_t>(f.dims); }
+
+bool slide_frame(const Spline& s, const SlideSurface& surface, int id, bool curves, SlideFrame& f) {
   const auto p = s.position(id);
   Vec3 n;
   const Vec3 c = surface.closest(p, &n);
   const double share = 0.5 * s.neighbour_distance(id, true);
   if (!std::isfinite(share) || share <= 0) return false;
-  const double reach = std::min(share, surface.sharp_distance(c) / 1.5);
+  const double to_sharp = surface.sharp_distance(c);
+  const double reach = std::min(share, to_sharp / 1.5);
   const Eigen::Vector3d N(n[0], n[1], n[2]);
-  if (!(reach >= 0.05 * share) || N.squaredNorm() < 0.5) return false;
-  f.sliding = true;
   f.origin = Eigen::Vector3d(p[0], p[1], p[2]);
-  f.offset = f.origin - Eigen::Vector3d(c[0], c[1], c[2]);
-  f.t1 = N.cross(std::abs(N.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).normalized();
-  f.t2 = N.cross(f.t1);
-  f.reach = reach;
+  if (reach >= 0.05 * share && N.squaredNorm() >= 0.5) {
+    f.dims = 2;
+    f.offset = f.origin - Eigen::Vector3d(c[0], c[1], c[2]);
+    f.t1 = N.cross(std::abs(N.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).normalized();
+    f.t2 = N.cross(f.t1);
+    f.reach = reach;
+    return true;
+  }
+  if (!curves || !(to_sharp <= 0.05 * share)) return false;
+  Vec3 t;
+  const Vec3 q = surface.closest_sharp(p, &t);
+  const double along = std::min(share, surface.sharp_corner_distance(q) / 1.5);
+  const Eigen::Vector3d T(t[0], t[1], t[2]);
+  if (!(along >= 0.05 * share) || T.squaredNorm() < 0.5) return false;
+  f.dims = 1;
+  f.offset = f.origin - Eigen::Vector3d(q[0], q[1], q[2]);
+  f.t1 = T;
+  f.reach = along;
   return true;
 }
 
@@ -620,13 +639,13 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         if (static_cast<std::size_t>(id) >= var_of.size()) var_of.resize(static_cast<std::size_t>(id) + 1, -1);
         if (var_of[static_cast<std::size_t>(id)] != -1) continue;
         SlideFrame f;
-        if (s.on_surface(id) && !(surface && slide_frame(s, *surface, id, f))) {
+        if (s.on_surface(id) && !(surface && slide_frame(s, *surface, id, params.slide_sharp_curves, f))) {
           var_of[static_cast<std::size_t>(id)] = -2;
           continue;
         }
         var_of[static_cast<std::size_t>(id)] = static_cast<int>(ids.size());
         ids.push_back(id);
-        first.push_back(first.empty() ? 0 : first.back() + (frame.back().sliding ? 2 : 3));
+        first.push_back(first.empty() ? 0 : first.back() + width(frame.back()));
         frame.push_back(f);
       }
     }
@@ -642,10 +661,10 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     double before = std::numeric_limits<double>::infinity();
     int invalid_before = 0;
     for (const int e : els) before = std::min(before, q[static_cast<std::size_t>(e)].scaled), invalid_before += q[static_cast<std::size_t>(e)].valid ? 0 : 1;
-    std::vector<double> x0(first.back() + (frame.back().sliding ? 2 : 3)), lower(x0.size()), upper(x0.size());
+    std::vector<double> x0(first.back() + width(frame.back())), lower(x0.size()), upper(x0.size());
     for (std::size_t v = 0; v < ids.size(); ++v) {
-      if (frame[v].sliding) {  // tangent coordinates, 0 at the start
-        for (std::size_t d = 0; d < 2; ++d) lower[first[v] + d] = -frame[v].reach, upper[first[v] + d] = frame[v].reach;
+      if (frame[v].dims > 0) {  // tangent coordinates, 0 at the start
+        for (std::size_t d = 0; d < width(frame[v]); ++d) lower[first[v] + d] = -frame[v].reach, upper[first[v] + d] = frame[v].reach;
         continue;
       }
       const auto p = s.position(ids[v]);
@@ -656,18 +675,21 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         upper[first[v] + static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)] + (std::isfinite(h) ? h : 0.0);
       }
     }
-    // The position of variable v at x. A sliding node moves in its tangent plane while L-BFGS
-    // runs (the objective and its gradient are then exact); the step that is checked and kept has
-    // it projected back onto the surface at its offset from it (`project`).
+    // The position of variable v at x. A sliding node moves in its tangent plane (or along its
+    // curve's tangent) while L-BFGS runs (the objective and its gradient are then exact); the step
+    // that is checked and kept has it projected back onto the surface (the sharp curve) at its
+    // offset from it (`project`).
     auto place = [&](std::size_t v, const std::vector<double>& x, bool project) -> std::array<double, 3> {
       const std::size_t at = first[v];
       const SlideFrame& f = frame[v];
-      if (!f.sliding) return {x[at], x[at + 1], x[at + 2]};
-      if (x[at] == 0 && x[at + 1] == 0) return {f.origin.x(), f.origin.y(), f.origin.z()};
-      Eigen::Vector3d y = f.origin + x[at] * f.t1 + x[at + 1] * f.t2;
+      if (f.dims == 0) return {x[at], x[at + 1], x[at + 2]};
+      const double b = f.dims == 2 ? x[at + 1] : 0.0;
+      if (x[at] == 0 && b == 0) return {f.origin.x(), f.origin.y(), f.origin.z()};
+      Eigen::Vector3d y = f.origin + x[at] * f.t1;
+      if (f.dims == 2) y += b * f.t2;
       if (project) {
         const Eigen::Vector3d on = y - f.offset;
-        const Vec3 c = surface->closest({on.x(), on.y(), on.z()});
+        const Vec3 c = f.dims == 2 ? surface->closest({on.x(), on.y(), on.z()}) : surface->closest_sharp({on.x(), on.y(), on.z()});
         y = Eigen::Vector3d(c[0], c[1], c[2]) + f.offset;
       }
       return {y.x(), y.y(), y.z()};
@@ -755,8 +777,9 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
             if (v < 0) continue;
             const std::size_t at = first[static_cast<std::size_t>(v)];
             const SlideFrame& f = frame[static_cast<std::size_t>(v)];
-            if (f.sliding) {
-              grad[at] += f.t1.dot(dP[k][j]), grad[at + 1] += f.t2.dot(dP[k][j]);
+            if (f.dims > 0) {
+              grad[at] += f.t1.dot(dP[k][j]);
+              if (f.dims == 2) grad[at + 1] += f.t2.dot(dP[k][j]);
               continue;
             }
             for (std::size_t d = 0; d < 3; ++d) grad[at + d] += dP[k][j][static_cast<Eigen::Index>(d)];
@@ -829,7 +852,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
             if (v < 0 || back[static_cast<std::size_t>(v)]) continue;
             back[static_cast<std::size_t>(v)] = 1, ++t.reverted;
             const std::size_t at = first[static_cast<std::size_t>(v)];
-            for (std::size_t d = 0; d < (frame[static_cast<std::size_t>(v)].sliding ? 2u : 3u); ++d) t.y[at + d] = x0[at + d];
+            for (std::size_t d = 0; d < width(frame[static_cast<std::size_t>(v)]); ++d) t.y[at + d] = x0[at + d];
             s.set_position(id, place(static_cast<std::size_t>(v), x0, false));
             for (const int e2 : s.elements_of(id)) dirty[static_cast<std::size_t>(index_of[static_cast<std::size_t>(e2)])] = 1;
           }
@@ -851,7 +874,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     set_all(accepted ? best.y : x0, true);
     int slid = 0;
     for (std::size_t v = 0; v < ids.size() && accepted; ++v)
-      slid += frame[v].sliding && (best.y[first[v]] != 0 || best.y[first[v] + 1] != 0) ? 1 : 0;
+      slid += frame[v].dims > 0 && (best.y[first[v]] != 0 || (frame[v].dims == 2 && best.y[first[v] + 1] != 0)) ? 1 : 0;
     if (accepted) r.surface_nodes_slid += slid;
     if (accepted)
       for (std::size_t k = 0; k < els.size(); ++k) q[static_cast<std::size_t>(els[k])] = best.now[k], samples[static_cast<std::size_t>(els[k])] = std::move(best.js[k]);

@@ -6,6 +6,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -28,6 +29,7 @@ using SegmentTree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_segment_prim
 struct SlideSurface::Impl {
   Triangles triangles;
   Segments sharp;
+  std::vector<K::Point_3> corners;  // few (tens on the parts here): searched one by one
   TriangleTree triangle_tree;
   SegmentTree sharp_tree;
 };
@@ -56,10 +58,22 @@ SlideSurface::SlideSurface(const std::vector<Vec3>& vertices, const std::vector<
     }
   }
   const double cos_sharp = std::cos(sharp_angle_deg * M_PI / 180.0);
+  std::map<int, std::vector<int>> sharp_at;  // per vertex, the other ends of its sharp edges
   for (const auto& [edge, fs] : faces_of) {
     // A boundary or non-manifold edge counts as sharp: nothing may slide across it.
     const bool sharp = fs.size() != 2 || normals[fs[0]] * normals[fs[1]] < cos_sharp;
-    if (sharp) impl_->sharp.emplace_back(point(edge.first), point(edge.second));
+    if (!sharp) continue;
+    impl_->sharp.emplace_back(point(edge.first), point(edge.second));
+    sharp_at[edge.first].push_back(edge.second), sharp_at[edge.second].push_back(edge.first);
+  }
+  for (const auto& [v, ends] : sharp_at) {
+    bool corner = ends.size() != 2;
+    if (!corner) {
+      const K::Vector_3 a = point(v) - point(ends[0]), b = point(ends[1]) - point(v);
+      const double la = std::sqrt(a.squared_length()), lb = std::sqrt(b.squared_length());
+      corner = !(la > 0 && lb > 0) || (a * b) / (la * lb) < cos_sharp;
+    }
+    if (corner) impl_->corners.push_back(point(v));
   }
   impl_->triangle_tree.insert(impl_->triangles.cbegin(), impl_->triangles.cend());
   impl_->triangle_tree.accelerate_distance_queries();
@@ -90,5 +104,25 @@ double SlideSurface::sharp_distance(const Vec3& p) const {
 }
 
 int SlideSurface::sharp_edges() const { return static_cast<int>(impl_->sharp.size()); }
+
+Vec3 SlideSurface::closest_sharp(const Vec3& p, Vec3* tangent) const {
+  if (impl_->sharp.empty()) throw core::InvalidInputError("slide surface: closest_sharp on a surface without sharp edges");
+  const auto [q, it] = impl_->sharp_tree.closest_point_and_primitive(K::Point_3(p[0], p[1], p[2]));
+  if (tangent) {
+    const K::Vector_3 d = it->to_vector();
+    const double l = std::sqrt(d.squared_length());
+    *tangent = l > 0 ? Vec3{d.x() / l, d.y() / l, d.z() / l} : Vec3{0, 0, 0};
+  }
+  return {q.x(), q.y(), q.z()};
+}
+
+double SlideSurface::sharp_corner_distance(const Vec3& p) const {
+  double best = std::numeric_limits<double>::infinity();
+  const K::Point_3 x(p[0], p[1], p[2]);
+  for (const K::Point_3& c : impl_->corners) best = std::min(best, CGAL::squared_distance(x, c));
+  return std::sqrt(best);
+}
+
+int SlideSurface::sharp_corners() const { return static_cast<int>(impl_->corners.size()); }
 
 }  // namespace volts::tmesh

@@ -26,6 +26,14 @@ class SlideSurface {
   Vec3 closest(const Vec3& p, Vec3* normal = nullptr) const;
   /// Distance from p to the nearest sharp edge; +infinity if the surface has none.
   double sharp_distance(const Vec3& p) const;
+  /// The closest point of the sharp edges to p and, if `tangent` is given, the unit direction of
+  /// its edge. Only for a surface with sharp edges (sharp_edges() > 0).
+  Vec3 closest_sharp(const Vec3& p, Vec3* tangent = nullptr) const;
+  /// Distance from p to the nearest sharp corner: a vertex where other than two sharp edges meet,
+  /// or two that turn by more than the sharp angle (a curve's end, or a corner of the solid);
+  /// +infinity if there is none (a closed smooth sharp loop, or no sharp edge).
+  double sharp_corner_distance(const Vec3& p) const;
+  int sharp_corners() const;
   int sharp_edges() const;
 
  private:

@@ -40,6 +40,9 @@ struct Params {
   /// When they start sliding: "stall" (once the rounds with fixed surface nodes stop) or "start"
   /// (OptimizeParams::slide_from_start).
   std::string slide_from = "stall";
+  /// Surface nodes on sharp curves slide along them too, away from sharp corners
+  /// (OptimizeParams::slide_sharp_curves).
+  bool slide_sharp_curves = false;
 };
 
 using Vec3 = std::array<double, 3>;

@@ -62,9 +62,11 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_TRUE(file.tmesh.slide_surface);
   EXPECT_EQ(file.tmesh.slide_from, "stall");
   EXPECT_FALSE(tmesh::OptimizeParams{}.slide_from_start);
-  const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start}\n", "t");
+  EXPECT_EQ(file.tmesh.slide_sharp_curves, tmesh::OptimizeParams{}.slide_sharp_curves);
+  const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start, slide_sharp_curves: true}\n", "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");
   EXPECT_FALSE(d.tmesh.slide_surface);
+  EXPECT_TRUE(d.tmesh.slide_sharp_curves);
   EXPECT_EQ(d.tmesh.slide_from, "start");
   const std::string e = config_error("tmesh: {slide_from: always}\n");
   EXPECT_NE(e.find("tmesh.slide_from"), std::string::npos) << e;

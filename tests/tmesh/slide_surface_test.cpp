@@ -83,6 +83,34 @@ TEST(SlideSurface, OnlyTheCubesEdgesAreSharp) {
   EXPECT_NEAR(s.sharp_distance({1.0, 0.4, 1.0}), 0.0, 1e-12);
 }
 
+TEST(SlideSurface, ClosestSharpPointsTangentsAndCornersOfACube) {
+  const tmesh::SlideSurface s = unit_cube();
+  EXPECT_EQ(s.sharp_corners(), 8);  // three sharp edges meet at each corner
+  Vec3 t;
+  const Vec3 q = s.closest_sharp({0.3, 0.5, 1.1}, &t);  // the edge x = 0, z = 1 is nearest
+  EXPECT_NEAR(q[0], 0.0, 1e-12);
+  EXPECT_NEAR(q[1], 0.5, 1e-12);
+  EXPECT_NEAR(q[2], 1.0, 1e-12);
+  EXPECT_NEAR(std::abs(t[1]), 1.0, 1e-12);
+  EXPECT_NEAR(s.sharp_corner_distance({0.5, 0.5, 1.0}), std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(s.sharp_corner_distance({1.0, 1.0, 0.25}), 0.25, 1e-12);
+  // A closed smooth sharp loop has no corner: a prism over a regular 24-gon, open at both ends,
+  // has two sharp rims (boundary edges) whose turns (15 degrees) are below the sharp angle.
+  std::vector<Vec3> v;
+  std::vector<std::array<int, 3>> tri;
+  const int n = 24;
+  for (int h = 0; h < 2; ++h)
+    for (int i = 0; i < n; ++i) v.push_back({std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), double(h)});
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    tri.push_back({i, j, n + j}), tri.push_back({i, n + j, n + i});
+  }
+  const tmesh::SlideSurface tube(v, tri);
+  EXPECT_EQ(tube.sharp_edges(), 2 * n);
+  EXPECT_EQ(tube.sharp_corners(), 0);
+  EXPECT_TRUE(std::isinf(tube.sharp_corner_distance({0, 0, 0.5})));
+}
+
 TEST(SlideSurface, RefusesAnEmptyMeshAndIndicesOutOfRange) {
   EXPECT_THROW(tmesh::SlideSurface({}, {}), core::InvalidInputError);
   EXPECT_THROW(tmesh::SlideSurface({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 3}}), core::InvalidInputError);
@@ -92,14 +120,20 @@ TEST(SlideSurface, RefusesAnEmptyMeshAndIndicesOutOfRange) {
 // sheared in their planes, over shears and with and without a pillow layer, surface nodes slide and
 // stay in their face's plane, nodes on the cube's edges and corners (sharp) stay exactly where they
 // are, shared nodes move together, the worst figure and the certified count never get worse, and
-// without a pillow sliding ends higher than the same rounds with the surface nodes fixed.
+// without a pillow sliding ends higher than the same rounds with the surface nodes fixed. Nodes
+// on the cube's edges (sharp curves) slide along them only with slide_sharp_curves, and stay on
+// them; the corners (sharp corners) never move.
 TEST(SlideSurface, JointRoundsSlideSurfaceNodesInTheirFacesAndKeepSharpOnes) {
   const tmesh::SlideSurface cube = unit_cube();
+  EXPECT_EQ(cube.sharp_corners(), 8);
+  int moved_on_edges_total = 0;
   for (const double alpha : {0.1, 0.14, 0.2})
     for (int pillow = 0; pillow <= 1; ++pillow)
-      for (const bool from_start : {false, true}) {
+      for (const bool from_start : {false, true})
+        for (const bool curves : {false, true}) {
       tmesh::OptimizeParams op;
       op.slide_from_start = from_start;
+      op.slide_sharp_curves = curves;
       op.gauss_points = 2;
       op.target = 0.99;  // out of reach: every round runs to its own stopping rule
       op.sweeps = 1;
@@ -109,8 +143,8 @@ TEST(SlideSurface, JointRoundsSlideSurfaceNodesInTheirFacesAndKeepSharpOnes) {
       const std::vector<tmesh::TMesh> start = slid;
       const tmesh::OptimizeResult rs = tmesh::optimize(slid, op, &cube);
       const tmesh::OptimizeResult rf = tmesh::optimize(fixed, op);
-      std::printf("alpha %.2f pillow %d from %s: worst %.4f -> sliding %.4f (%d nodes slid, %d rounds), fixed surface %.4f\n", alpha, pillow,
-                  from_start ? "start" : "stall", rs.min_before, rs.min_after, rs.surface_nodes_slid, rs.joint_rounds, rf.min_after);
+      std::printf("alpha %.2f pillow %d from %s, curves %d: worst %.4f -> sliding %.4f (%d nodes slid, %d rounds), fixed surface %.4f\n", alpha, pillow,
+                  from_start ? "start" : "stall", curves ? 1 : 0, rs.min_before, rs.min_after, rs.surface_nodes_slid, rs.joint_rounds, rf.min_after);
       EXPECT_GT(rs.surface_nodes_slid, 0);
       EXPECT_GE(rs.min_after, rs.min_before);
       EXPECT_LE(rs.invalid_after, rs.invalid_before);
@@ -127,7 +161,7 @@ TEST(SlideSurface, JointRoundsSlideSurfaceNodesInTheirFacesAndKeepSharpOnes) {
         EXPECT_GT(rs.min_after, rf.min_after - 0.002);
       }
       std::map<int, Vec3> at;
-      int moved_on_faces = 0;
+      int moved_on_faces = 0, moved_on_edges = 0;
       for (std::size_t b = 0; b < slid.size(); ++b) {
         const tmesh::TMesh& t = slid[b];
         for (std::size_t i = 0; i < t.control_points.size(); ++i) {
@@ -141,9 +175,10 @@ TEST(SlideSurface, JointRoundsSlideSurfaceNodesInTheirFacesAndKeepSharpOnes) {
               // Offset from the face's plane kept (it starts at rounding level).
               EXPECT_NEAR(p[static_cast<std::size_t>(f / 2)], p0[static_cast<std::size_t>(f / 2)], 1e-12) << "left its face";
             }
-          if (on >= 2) {
-            EXPECT_EQ(p, p0) << "a node on a sharp edge or corner moved";
+          if (on == 3 || (on == 2 && !curves)) {
+            EXPECT_EQ(p, p0) << "a node on a sharp corner, or on a sharp edge without slide_sharp_curves, moved";
           }
+          if (on == 2) moved_on_edges += p != p0;  // on its edge: both face planes checked above
           if (on == 1) moved_on_faces += p != p0;
           const auto [it, fresh] = at.emplace(t.function_ids[i], p);
           if (!fresh) {
@@ -152,5 +187,7 @@ TEST(SlideSurface, JointRoundsSlideSurfaceNodesInTheirFacesAndKeepSharpOnes) {
         }
       }
       EXPECT_GT(moved_on_faces, 0);
+      moved_on_edges_total += moved_on_edges;
     }
+  EXPECT_GT(moved_on_edges_total, 0);  // curve sliding is not a no-op on this family
 }
