@@ -11,6 +11,7 @@
 
 #include "tmesh/optimize.h"
 #include "tmesh/tmesh.h"
+#include "unit_cube_blocks.h"
 
 using namespace volts;
 using tmesh::Vec3;
@@ -27,14 +28,7 @@ Vec3 twisted(const Vec3& abc, double twist = 1.2) {
 }
 
 std::vector<tmesh::TMesh> blocks(int pillow, double twist = 1.2) {
-  tmesh::PolycubeMaps m;
-  m.boundary = {{1, 1, 1, 1, 1, 1}};
-  m.physical = [twist](int, const Vec3& abc) { return twisted(abc, twist); };
-  m.polycube = [](int, const Vec3& abc) { return abc; };
-  tmesh::Params p;
-  p.level = 2;
-  p.pillow_layers = pillow;
-  return tmesh::build(m, p);
+  return tmesh::testing::unit_cube_blocks([twist](const Vec3& abc) { return twisted(abc, twist); }, pillow);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "tmesh/optimize.h"
 #include "tmesh/slide_surface.h"
 #include "tmesh/tmesh.h"
+#include "unit_cube_blocks.h"
 
 using namespace volts;
 using tmesh::Vec3;
@@ -40,14 +41,7 @@ Vec3 sheared(const Vec3& x, double alpha) {
 }
 
 std::vector<tmesh::TMesh> sheared_blocks(int pillow, double alpha) {
-  tmesh::PolycubeMaps m;
-  m.boundary = {{1, 1, 1, 1, 1, 1}};
-  m.physical = [alpha](int, const Vec3& abc) { return sheared(abc, alpha); };
-  m.polycube = [](int, const Vec3& abc) { return abc; };
-  tmesh::Params p;
-  p.level = 2;
-  p.pillow_layers = pillow;
-  return tmesh::build(m, p);
+  return tmesh::testing::unit_cube_blocks([alpha](const Vec3& abc) { return sheared(abc, alpha); }, pillow);
 }
 
 // Which faces of the cube control point i of block t lies on (bit 2a + s), from the block's flags.
