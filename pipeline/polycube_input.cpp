@@ -443,6 +443,19 @@ tmesh::PolycubeMaps strip_connector_maps(const std::string& in, const tmesh::Cub
   m.blocks = tmesh::blocks_in_cubes(*bc, frame,
                                     tmesh::complex_blocks(bc->complex, tmesh::element_counts(bc->complex, wanted), params.pillow_layers,
                                                           bc->pillow(p), tmesh::OppositePlanes::in_plane));
+  // The lenses' outline is the shank's round section, smooth at the end face's corners: pillow
+  // their slabs within the end face's plane (tmesh::rim_pillow).
+  if (params.rim_pillow_lenses) {
+    std::vector<tmesh::Block> kept;
+    for (const tmesh::Block& b : m.blocks[static_cast<std::size_t>(nk)]) {
+      if (!(b.pillow && b.boundary[static_cast<std::size_t>(strip.end)])) {
+        kept.push_back(b);
+        continue;
+      }
+      for (const tmesh::Block& r : tmesh::rim_pillow(b, params.pillow_layers)) kept.push_back(r);
+    }
+    m.blocks[static_cast<std::size_t>(nk)] = std::move(kept);
+  }
   m.boundary.assign(m.blocks.size(), {0, 0, 0, 0, 0, 0});
   // The cube holding a point of cube c's parameters and the point in its parameters: through the
   // frame (across the rings' closures), a ring's cube first.

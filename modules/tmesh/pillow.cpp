@@ -19,6 +19,29 @@ Vec3 block_point(const std::array<Vec3, 8>& c, const Vec3& uvw) {
   return x;
 }
 
+std::vector<Block> rim_pillow(const Block& slab, int layers) {
+  if (layers < 1) throw core::ConfigError("tmesh: a rim pillow needs layers >= 1, got " + std::to_string(layers));
+  int f = -1, faces = 0;
+  for (int i = 0; i < 6; ++i)
+    if (slab.boundary[static_cast<std::size_t>(i)]) f = i, ++faces;
+  if (faces != 1) throw core::InvalidInputError("tmesh: a rim pillow needs a block with exactly one surface face, got " + std::to_string(faces));
+  std::array<int, 6> pillowed{1, 1, 1, 1, 1, 1};
+  pillowed[static_cast<std::size_t>(f)] = 0;
+  const int a = f / 2, side = f % 2;
+  std::vector<Block> out = cube_blocks(pillowed, slab.elements, layers);
+  for (Block& b : out) {
+    // A new block reaches the surface face iff its four corners on that side lie in its plane.
+    bool on_face = true;
+    for (std::size_t c = 0; c < 8; ++c)
+      if (static_cast<int>((c >> a) & 1) == side) on_face = on_face && b.corners[c][static_cast<std::size_t>(a)] == side;
+    b.boundary = {0, 0, 0, 0, 0, 0};
+    b.boundary[static_cast<std::size_t>(f)] = on_face ? 1 : 0;
+    b.pillow = true;
+    for (Vec3& x : b.corners) x = block_point(slab.corners, x);
+  }
+  return out;
+}
+
 namespace {
 
 // Interval ends 0, cuts..., 1 along cube axis d, after checking the cuts.

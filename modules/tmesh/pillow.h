@@ -87,6 +87,21 @@ std::vector<Block> difference_blocks(int axis, const Vec3& hole_lo, const Vec3& 
 /// check fails (not expected with rule 2).
 std::vector<std::vector<Block>> profile_blocks(const std::vector<std::array<int, 2>>& cells, int elements, int layers);
 
+/// The in-plane pillow of a pillow slab's surface face (Liu et al. 2013 §5.2, Fig. 9: the
+/// circumferential pillow, here of one face): a ring of elements along the face's outline, so
+/// that no element of the face has two edges on it. Where the outline is smooth at a corner of
+/// the face (the rod's lensed connector end: the cube corner sits on the round section of the
+/// shank, ~162 degrees between the face's edges) the corner element's surface face is flattened
+/// and bounds its scaled Jacobian by the sine of that angle; the ring splits the angle between two
+/// elements. It is a shrink-set pillow of the slab alone: cube_blocks of the slab's own
+/// parameters with its five other faces as the pillowed ones (`layers` each), mapped through the
+/// slab's corners. Each of those five faces stays the whole face of exactly one new block with
+/// the same element counts, so the slab's neighbours conform unchanged; the surface face becomes
+/// the core's face and four rim strips. Every new block is a pillow block; the ones reaching the
+/// surface face carry its flag. Throws core::InvalidInputError if `slab` has not exactly one
+/// surface face, core::ConfigError for layers < 1.
+std::vector<Block> rim_pillow(const Block& slab, int layers);
+
 /// Cube parameters of block parameters uvw (trilinear in the corners).
 Vec3 block_point(const std::array<Vec3, 8>& corners, const Vec3& uvw);
 

@@ -43,6 +43,9 @@ struct Params {
   /// Surface nodes on sharp curves slide along them too, away from sharp corners
   /// (OptimizeParams::slide_sharp_curves).
   bool slide_sharp_curves = false;
+  /// A connector's lensed end (the rod's shoulder) gets its lens slabs pillowed within the end
+  /// face's plane (pillow.h rim_pillow): the face's corners sit where its outline is smooth.
+  bool rim_pillow_lenses = true;
 };
 
 using Vec3 = std::array<double, 3>;

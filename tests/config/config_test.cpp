@@ -63,8 +63,11 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_EQ(file.tmesh.slide_from, "stall");
   EXPECT_FALSE(tmesh::OptimizeParams{}.slide_from_start);
   EXPECT_EQ(file.tmesh.slide_sharp_curves, tmesh::OptimizeParams{}.slide_sharp_curves);
-  const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start, slide_sharp_curves: true}\n", "t");
+  EXPECT_TRUE(file.tmesh.rim_pillow_lenses);
+  EXPECT_EQ(file.tmesh.rim_pillow_lenses, tmesh::Params{}.rim_pillow_lenses);
+  const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start, slide_sharp_curves: true, rim_pillow_lenses: false}\n", "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");
+  EXPECT_FALSE(d.tmesh.rim_pillow_lenses);
   EXPECT_FALSE(d.tmesh.slide_surface);
   EXPECT_TRUE(d.tmesh.slide_sharp_curves);
   EXPECT_EQ(d.tmesh.slide_from, "start");

@@ -523,3 +523,127 @@ TEST(PillowCuts, NoCutsGiveTheUncutBlocksAndBadCutsAreRefused) {
       EXPECT_THROW(tmesh::cube_blocks({0, 0, 0, 0, 0, 0}, {8, 8, 8}, 0, cuts), core::ConfigError);
     }
 }
+
+namespace {
+
+// Elements of the surface faces of `blocks` on cube face f that have two or more edges on that
+// face's outline (the cube face's four edges).
+int elements_with_two_outline_edges(const std::vector<tmesh::Block>& blocks, int f) {
+  const int a = f / 2, s = f % 2, u = (a + 1) % 3, v = (a + 2) % 3;
+  auto on_line = [&](const Vec3& p, const Vec3& q) {
+    for (const int d : {u, v})
+      for (const double x : {0.0, 1.0})
+        if (std::abs(p[d] - x) < 1e-12 && std::abs(q[d] - x) < 1e-12) return true;
+    return false;
+  };
+  int bad = 0;
+  for (const auto& b : blocks) {
+    if (!b.boundary[static_cast<std::size_t>(f)]) continue;
+    const int nu = b.elements[static_cast<std::size_t>(u)], nv = b.elements[static_cast<std::size_t>(v)];
+    auto at = [&](int i, int j) {
+      Vec3 w{0, 0, 0};
+      w[static_cast<std::size_t>(a)] = s, w[static_cast<std::size_t>(u)] = double(i) / nu, w[static_cast<std::size_t>(v)] = double(j) / nv;
+      return tmesh::block_point(b.corners, w);
+    };
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        const Vec3 p00 = at(i, j), p10 = at(i + 1, j), p01 = at(i, j + 1), p11 = at(i + 1, j + 1);
+        const int edges = on_line(p00, p10) + on_line(p01, p11) + on_line(p00, p01) + on_line(p10, p11);
+        bad += edges >= 2;
+      }
+  }
+  return bad;
+}
+
+// cube_blocks with the slabs under the faces in `rimmed` replaced by their rim pillows.
+std::vector<tmesh::Block> rimmed_cube(const std::array<int, 6>& boundary, const std::array<int, 3>& elements, int layers,
+                                      const std::vector<int>& rimmed) {
+  std::vector<tmesh::Block> out;
+  for (const auto& b : tmesh::cube_blocks(boundary, elements, layers)) {
+    const bool rim = b.pillow && std::any_of(rimmed.begin(), rimmed.end(), [&](int f) { return b.boundary[static_cast<std::size_t>(f)] == 1; });
+    if (!rim) {
+      out.push_back(b);
+      continue;
+    }
+    for (const auto& r : tmesh::rim_pillow(b, layers)) out.push_back(r);
+  }
+  return out;
+}
+
+}  // namespace
+
+// The in-plane pillow of a slab's surface face (rim_pillow): the new blocks tile the slab with
+// positive Jacobian, its neighbours conform unchanged, the surface is covered once, no block has
+// two surface faces, and no element of a rimmed face has two edges on the face's outline (without
+// the rim, the face's four corner elements do).
+TEST(RimPillow, TilesTheSlabConformsWithItsNeighboursAndRingsItsSurfaceFace) {
+  const std::array<std::array<int, 6>, 2> cases = {{{1, 1, 1, 1, 1, 1}, {0, 1, 1, 0, 1, 1}}};
+  for (const auto& boundary : cases)
+    for (int layers = 1; layers <= 2; ++layers)
+      for (const std::vector<int>& rimmed : std::vector<std::vector<int>>{{5}, {4, 5}, {1, 2, 4, 5}}) {
+        SCOPED_TRACE("layers " + std::to_string(layers) + ", rimmed faces " + std::to_string(rimmed.size()) + ", boundary face 0: " +
+                     std::to_string(boundary[0]));
+        const std::array<int, 3> n{4, 5, 6};
+        const auto plain = tmesh::cube_blocks(boundary, n, layers);
+        const auto blocks = rimmed_cube(boundary, n, layers, rimmed);
+        // Each rimmed slab became six blocks (core, five sheets).
+        EXPECT_EQ(blocks.size(), plain.size() + 5 * rimmed.size());
+        double volume = 0, area = 0;
+        for (const auto& b : blocks) {
+          double min_det = 0;
+          volume += block_volume(b.corners, &min_det);
+          EXPECT_GT(min_det, 0);
+          EXPECT_LE(std::count(b.boundary.begin(), b.boundary.end(), 1), 1);
+        }
+        EXPECT_NEAR(volume, 1.0, 1e-9);
+        if (std::count(boundary.begin(), boundary.end(), 1) == 6) {  // check_conforming: every other face shared
+          area = check_conforming(blocks);
+          EXPECT_NEAR(area, 6.0, 1e-9);
+        }
+        for (int f = 0; f < 6; ++f) {
+          if (!boundary[static_cast<std::size_t>(f)]) continue;
+          const bool rim = std::find(rimmed.begin(), rimmed.end(), f) != rimmed.end();
+          const int plain_bad = elements_with_two_outline_edges(plain, f), bad = elements_with_two_outline_edges(blocks, f);
+          EXPECT_EQ(plain_bad, 4) << "face " << f << ": a plain slab's face has four corner elements";
+          EXPECT_EQ(bad, rim ? 0 : 4) << "face " << f;
+        }
+      }
+  EXPECT_THROW(tmesh::rim_pillow(tmesh::cube_blocks({1, 1, 1, 1, 1, 1}, {3, 3, 3}, 1)[0], 1), core::InvalidInputError) << "the core has no surface face";
+  EXPECT_THROW(tmesh::rim_pillow(tmesh::cube_blocks({1, 1, 1, 1, 1, 1}, {3, 3, 3}, 1)[1], 0), core::ConfigError);
+}
+
+namespace {
+
+// The cross section (a, b) squared: faces a = 0 and b = 0 become one smooth face (their edge is
+// flattened, the 3D pillow's case), and on the flat faces c = 0 and c = 1 the corner a = b = 0
+// turns 180 degrees while their edges with the smooth face stay sharp (90 degrees) — the rod's
+// lensed connector end on the shank's round section.
+Vec3 flattened_face_corner(const Vec3& abc) {
+  const double u = abc[0], v = abc[1];
+  return {u * u - v * v, 2 * u * v, abc[2]};
+}
+
+}  // namespace
+
+// On the map above the plain pillow's slabs under c = 0 and c = 1 have a corner element whose
+// face turns 180 degrees (scaled Jacobian 0); their rim pillows lift those faces to the level of
+// the rest of the mesh, whose worst is the 3D pillow of the flattened edge a = b = 0 (untouched).
+TEST(RimPillow, LiftsTheFlattenedCornerOfAFlatFace) {
+  tmesh::Params p;
+  p.level = 3;
+  // Worst trilinear figure over the blocks with (on_c_faces) or without a surface face c = 0 or 1.
+  auto worst = [&](const std::vector<int>& rimmed, bool on_c_faces) {
+    tmesh::PolycubeMaps m = one_cube(flattened_face_corner);
+    m.blocks = {rimmed_cube({1, 1, 1, 1, 1, 1}, {8, 8, 8}, 1, rimmed)};
+    double w = 1;
+    for (const auto& t : tmesh::build(m, p))
+      if ((t.boundary[4] || t.boundary[5]) == on_c_faces) w = std::min(w, tmesh::min_element_scaled_jacobian(t));
+    return w;
+  };
+  const double plain = worst({}, true), rimmed = worst({4, 5}, true), rest = worst({}, false);
+  std::printf("worst scaled Jacobian on the flat faces: plain pillow %g, rim pillow %g; elsewhere %g\n", plain, rimmed, rest);
+  EXPECT_LT(plain, 0.01);
+  EXPECT_GT(rimmed, 0.15);
+  EXPECT_GE(rimmed, rest);
+  EXPECT_EQ(worst({4, 5}, false), rest) << "the rim pillow changes nothing off the rimmed slabs";
+}
