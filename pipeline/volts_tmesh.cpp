@@ -1,5 +1,6 @@
 // volts-tmesh: stage 4 (Liu et al. §5.1–5.2). Reads polycube.stage.json, builds the octree T-mesh
 // (control mesh) through the volume map; writes tmesh.stage.json and tmesh.vtu.
+#include <algorithm>
 #include <limits>
 #include <memory>
 
@@ -13,6 +14,40 @@
 using namespace volts;
 
 namespace {
+
+// The blocks whose elements started worst (lowest mean sampled scaled Jacobian before
+// optimization), at most 10: where the polycube map or the block layout is poor, which the
+// optimizer then has to make up for (docs/formats.md, report key tmesh.optimization.worst_blocks).
+core::Json worst_blocks(const std::vector<tmesh::TMesh>& ts, const tmesh::OptimizeResult& opt) {
+  core::Json out = core::Json::array();
+  if (opt.element_before.empty()) return out;
+  struct Row {
+    std::size_t block;
+    int elements;
+    double mean_before, min_before, mean_after, min_after;
+  };
+  std::vector<Row> rows;
+  std::size_t e = 0;
+  for (std::size_t b = 0; b < ts.size(); ++b) {
+    Row r{b, ts[b].elements(), 0, std::numeric_limits<double>::infinity(), 0, std::numeric_limits<double>::infinity()};
+    for (int k = 0; k < r.elements; ++k, ++e) {
+      r.mean_before += opt.element_before[e] / r.elements, r.min_before = std::min(r.min_before, opt.element_before[e]);
+      r.mean_after += opt.element_after[e] / r.elements, r.min_after = std::min(r.min_after, opt.element_after[e]);
+    }
+    rows.push_back(r);
+  }
+  std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.mean_before < b.mean_before; });
+  rows.resize(std::min<std::size_t>(rows.size(), 10));
+  for (const Row& r : rows) {
+    const tmesh::TMesh& t = ts[r.block];
+    int surface_faces = 0;
+    for (const int f : t.boundary) surface_faces += f;
+    out.push_back({{"block", r.block}, {"component", t.component}, {"kind", t.kind}, {"surface_faces", surface_faces},
+                   {"elements", r.elements}, {"mean_before", r.mean_before}, {"min_before", r.min_before},
+                   {"mean_after", r.mean_after}, {"min_after", r.min_after}});
+  }
+  return out;
+}
 
 // Blocks, optimization, files and report: the same for every kind of polycube.
 core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surface, const tmesh::PolycubeMaps& maps) {
@@ -54,7 +89,10 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     core::Json list = core::Json::array();
     for (const auto& t : ts) list.push_back(tmesh::to_json(t));
     core::write_stage_file(ctx.output_file(), "volts-tmesh", 2, {{"surface", surface}, {"tmeshes", list}});
-    after = tmesh::write_vtu(ctx.path("tmesh.vtu"), ts);
+    std::vector<std::pair<std::string, std::vector<double>>> extra;
+    if (!opt.element_before.empty())
+      extra = {{"bezier_scaled_jacobian_before", opt.element_before}, {"bezier_scaled_jacobian_after", opt.element_after}};
+    after = tmesh::write_vtu(ctx.path("tmesh.vtu"), ts, extra);
   }
   core::Json fig = tmesh::report_figures(ts, before, after);
   // The Bézier elements' sampled scaled Jacobian around optimization (trilinear figures above).
@@ -63,7 +101,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
                          {"not_certified_valid_before", opt.invalid_before}, {"not_certified_valid_after", opt.invalid_after},
                          {"stop_reason", opt.stop_reason}, {"sweeps_cut_at_node_bound", opt.sweeps_cut_at_node_bound},
                          {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds},
-                         {"surface_nodes_slid", opt.surface_nodes_slid}};
+                         {"surface_nodes_slid", opt.surface_nodes_slid}, {"worst_blocks", worst_blocks(ts, opt)}};
   core::log(std::to_string(fig["blocks"].get<int>()) + " blocks, " + std::to_string(fig["elements"].get<int>()) + " elements, " +
             std::to_string(fig["nodes"].get<int>()) + " nodes, min control-net scaled Jacobian " + std::to_string(after));
   return fig;

@@ -937,6 +937,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     for (const auto& x : q) *worst = std::min(*worst, x.scaled), *invalid += x.valid ? 0 : 1;
   };
   summary(&r.min_before, &r.invalid_before);
+  for (const Quality& x : q) r.element_before.push_back(x.scaled);
   if (params.sweeps > 0) {
     // Surface nodes fixed first, then (given the surface) sliding from where those rounds stopped:
     // every kept round raises the worst figure, so sliding can only add to the fixed result.
@@ -1135,6 +1136,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     trilinear_phase(s, q, samples, pool, params, r);
   }
   summary(&r.min_after, &r.invalid_after);
+  for (const Quality& x : q) r.element_after.push_back(x.scaled);
   return r;
 }
 

@@ -111,6 +111,9 @@ struct OptimizeResult {
   int trilinear_nodes_moved = 0;
   int joint_rounds = 0;  ///< joint rounds kept
   int surface_nodes_slid = 0;  ///< surface nodes the kept joint rounds moved along the surface (counted once per round)
+  /// Per element (the T-mesh's order: block after block, i fastest; write_vtu's): its sampled
+  /// scaled Jacobian before and after optimization, so a user sees where the start was poor.
+  std::vector<double> element_before, element_after;
 };
 
 /// Moves interior control points of `blocks` (in place, shared ids together) to raise the worst

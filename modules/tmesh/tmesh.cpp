@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <stdexcept>
 
 #include "bezier/bspline.h"
 #include "bezier/bspline_volume.h"
@@ -383,7 +384,7 @@ core::Json report_figures(const std::vector<TMesh>& ts, double before, double af
                     {"min_scaled_jacobian_after", after}};
 }
 
-double write_vtu(const std::string& path, const std::vector<TMesh>& ts) {
+double write_vtu(const std::string& path, const std::vector<TMesh>& ts, const std::vector<std::pair<std::string, std::vector<double>>>& extra) {
   viz::UnstructuredGrid g;
   viz::Field sj{"scaled_jacobian", 1, {}}, comp{"component", 1, {}}, block{"block", 1, {}}, pillow{"pillow", 1, {}};
   double worst = std::numeric_limits<double>::infinity();
@@ -403,6 +404,11 @@ double write_vtu(const std::string& path, const std::vector<TMesh>& ts) {
     });
   }
   g.cell_fields = {sj, comp, block, pillow};
+  for (const auto& [name, values] : extra) {
+    if (values.size() != g.cells.size())
+      throw std::invalid_argument("tmesh.vtu: field " + name + " has " + std::to_string(values.size()) + " values for " + std::to_string(g.cells.size()) + " elements");
+    g.cell_fields.push_back(viz::Field{name, 1, values});
+  }
   viz::write_vtu(path, g);
   return worst;
 }

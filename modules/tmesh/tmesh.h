@@ -12,6 +12,7 @@
 #include <array>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/stage_file.h"
@@ -137,7 +138,10 @@ NodeCounts count_nodes(const std::vector<TMesh>& t);
 double min_element_scaled_jacobian(const TMesh& t);
 
 /// ParaView view: the T-mesh elements as trilinear hexes, with `scaled_jacobian`, `component`,
-/// `block` and `pillow` per cell. Returns the minimum scaled Jacobian of these hexes.
-double write_vtu(const std::string& path, const std::vector<TMesh>& t);
+/// `block` and `pillow` per cell, plus the `extra` cell fields (name, one value per element in
+/// the T-mesh's element order). Returns the minimum scaled Jacobian of these hexes. Throws
+/// std::invalid_argument if an extra field does not have one value per element.
+double write_vtu(const std::string& path, const std::vector<TMesh>& t,
+                 const std::vector<std::pair<std::string, std::vector<double>>>& extra = {});
 
 }  // namespace volts::tmesh

@@ -234,6 +234,28 @@ TEST(Pipeline, TorusRunsEndToEndAsARingOfFourCubes) {
   EXPECT_TRUE(stop == "no_move" || stop == "stalled" || stop == "no_element_below_target") << stop;
   EXPECT_LE(o["sweeps"].get<int>(), 40);  // the configured bound (tmesh.optimize_sweeps default)
   EXPECT_GE(o["bezier_min_scaled_jacobian_after"].get<double>(), o["bezier_min_scaled_jacobian_before"].get<double>());
+  // The blocks that started worst: ten of the 20 (4 cores, 16 slabs), by mean figure before
+  // optimization; each names a block of the stage file with its kind and surface faces.
+  {
+    const core::Json& wb = o["worst_blocks"];
+    const core::Json stage = core::read_stage_file((d / "w" / "tmesh.stage.json").string(), "volts-tmesh", 2);
+    ASSERT_EQ(wb.size(), 10u);
+    for (std::size_t i = 0; i < wb.size(); ++i) {
+      if (i > 0) {
+        EXPECT_GE(wb[i]["mean_before"].get<double>(), wb[i - 1]["mean_before"].get<double>());
+      }
+      const int b = wb[i]["block"].get<int>();
+      ASSERT_GE(b, 0);
+      ASSERT_LT(b, 20);
+      const core::Json& blk = stage["tmeshes"][static_cast<std::size_t>(b)];
+      EXPECT_EQ(wb[i]["kind"], blk["kind"]);
+      int faces = 0;
+      for (const auto& f : blk["boundary"]) faces += f.get<int>();
+      EXPECT_EQ(wb[i]["surface_faces"].get<int>(), faces);
+      EXPECT_EQ(wb[i]["elements"].get<int>(), blk["kind"] == "core" ? 512 : 64);
+      EXPECT_GE(wb[i]["min_after"].get<double>(), o["bezier_min_scaled_jacobian_after"].get<double>());
+    }
+  }
   EXPECT_EQ(x["certified_valid"], 4 * per_cube);
   EXPECT_EQ(x["certified_invalid"], 0);
   EXPECT_GT(x["min_scaled_jacobian"].get<double>(), 0.2);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <algorithm>
 #include <map>
 
 #include "core/errors.h"
@@ -52,6 +53,15 @@ TEST(Optimize, NeverLowersTheWorstJacobianAndKeepsSurfaceAndSharedPoints) {
     // One sweep moved nodes, so the run stopped on its sweep bound and must say so.
     EXPECT_EQ(r.sweeps, 1);
     EXPECT_EQ(r.stop_reason, "sweep_bound");
+    // Per-element figures (tmesh.vtu's bezier_scaled_jacobian_before/after): one per element,
+    // their minima the worst figures, and no element below the start's worst afterwards.
+    int elements = 0;
+    for (const auto& t : ts) elements += t.elements();
+    ASSERT_EQ(static_cast<int>(r.element_before.size()), elements);
+    ASSERT_EQ(static_cast<int>(r.element_after.size()), elements);
+    EXPECT_EQ(*std::min_element(r.element_before.begin(), r.element_before.end()), r.min_before);
+    EXPECT_EQ(*std::min_element(r.element_after.begin(), r.element_after.end()), r.min_after);
+    EXPECT_NE(r.element_before, r.element_after);
     std::map<int, Vec3> at;
     int moved = 0;
     for (std::size_t b = 0; b < ts.size(); ++b) {
