@@ -5,8 +5,10 @@
 // block whose control points make it interpolate the polycube volume map at its Greville points
 // (so the boundary rows interpolate the surface map: the spline boundary is on the input surface
 // to the interpolation error), shared control points across block faces, and optimization of the
-// worst Jacobian (optimize.h). Adaptive refinement with T-junctions, sharp-feature knots inside a
-// face and surface-sliding smoothing are not done yet (issue 7).
+// worst Jacobian (optimize.h; surface nodes slide along the input surface, slide_surface.h).
+// Adaptive refinement with T-junctions (modules/octree, modules/tspline exist, not wired) is not
+// done yet (issue 7); sharp curves inside a face become block faces only on tori
+// (polycube.sharp_lines, off by default).
 #pragma once
 
 #include <array>
