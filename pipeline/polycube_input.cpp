@@ -540,7 +540,34 @@ tmesh::PolycubeMaps connector_maps(const std::string& in, std::vector<Ring> list
   if (strip) return strip_connector_maps(in, k, *strip, ring, neck, first[strip->end], ring_cubes[static_cast<std::size_t>(strip->end)], params);
   const auto complex = std::make_shared<const tmesh::CubeComplex>(std::move(k));
   tmesh::PolycubeMaps m;
-  m.blocks = tmesh::complex_blocks(*complex, 1 << params.level, params.pillow_layers);
+  if (params.pillow_thickness == "physical") {
+    // Each cube's length along each axis in the solid: the polyline through its centre.
+    const int n = 1 << params.level;
+    std::vector<std::array<double, 3>> length(complex->glue.size());
+    for (int c = 0; c <= nk; ++c)
+      for (int d = 0; d < 3; ++d) {
+        auto at = [&](double t) {
+          tmesh::Vec3 u{0.5, 0.5, 0.5};
+          u[static_cast<std::size_t>(d)] = t;
+          if (c != nk) return ring.physical(c, u);
+          const auto p = neck->physical(u);
+          if (!p) throw core::NumericalError(in + ": a point of the connector lies outside its volume map");
+          return *p;
+        };
+        tmesh::Vec3 a = at(0);
+        double l = 0;
+        for (int i = 1; i <= 16; ++i) {
+          const tmesh::Vec3 b = at(i / 16.0);
+          l += std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+          a = b;
+        }
+        length[static_cast<std::size_t>(c)][static_cast<std::size_t>(d)] = l;
+      }
+    m.blocks = tmesh::complex_blocks(*complex, std::vector<std::array<int, 3>>(complex->glue.size(), {n, n, n}), params.pillow_layers,
+                                     tmesh::physical_pillow(*complex, n, params.pillow_layers, length));
+  } else {
+    m.blocks = tmesh::complex_blocks(*complex, 1 << params.level, params.pillow_layers);
+  }
   m.boundary.assign(m.blocks.size(), {0, 0, 0, 0, 0, 0});
   // The cube holding a block point; the connector's end faces belong to the rings.
   auto where = [complex, nk](int c, const tmesh::Vec3& x) {

@@ -232,6 +232,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("slide_from", c.tmesh.slide_from, {"stall", "start"});
     s.get("slide_sharp_curves", c.tmesh.slide_sharp_curves);
     s.get("rim_pillow_lenses", c.tmesh.rim_pillow_lenses);
+    s.get("pillow_thickness", c.tmesh.pillow_thickness, {"physical", "parametric"});
     s.finish();
   }
   {
@@ -405,7 +406,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "slide_surface" << YAML::Value << c.tmesh.slide_surface;
   e << YAML::Key << "slide_from" << YAML::Value << c.tmesh.slide_from;
   e << YAML::Key << "slide_sharp_curves" << YAML::Value << c.tmesh.slide_sharp_curves;
-  e << YAML::Key << "rim_pillow_lenses" << YAML::Value << c.tmesh.rim_pillow_lenses << YAML::EndMap;
+  e << YAML::Key << "rim_pillow_lenses" << YAML::Value << c.tmesh.rim_pillow_lenses;
+  e << YAML::Key << "pillow_thickness" << YAML::Value << c.tmesh.pillow_thickness << YAML::EndMap;
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "core/errors.h"
@@ -207,6 +208,43 @@ std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, const std::
     }
   }
   return out;
+}
+
+std::vector<std::array<double, 3>> physical_pillow(const CubeComplex& k, int elements, int layers, const std::vector<std::array<double, 3>>& length) {
+  if (elements < 1 || layers < 1 || length.size() != k.glue.size())
+    throw core::ConfigError("tmesh: a physical pillow needs elements >= 1, layers >= 1 and a length triple for each of the " +
+                            std::to_string(k.glue.size()) + " cubes");
+  for (const auto& l : length)
+    for (const double x : l)
+      if (!(x > 0) || !std::isfinite(x)) throw core::ConfigError("tmesh: a cube's physical length is not positive: " + std::to_string(x));
+  std::vector<int> up(3 * k.glue.size());
+  for (std::size_t i = 0; i < up.size(); ++i) up[i] = static_cast<int>(i);
+  auto find = [&](int x) {
+    while (up[static_cast<std::size_t>(x)] != x) x = up[static_cast<std::size_t>(x)] = up[static_cast<std::size_t>(up[static_cast<std::size_t>(x)])];
+    return x;
+  };
+  for (std::size_t c = 0; c < k.glue.size(); ++c)
+    for (int f = 0; f < 6; ++f) {
+      const auto& g = k.glue[c][static_cast<std::size_t>(f)];
+      if (!g) continue;
+      for (int t = 0; t < 3; ++t) up[static_cast<std::size_t>(find(3 * static_cast<int>(c) + t))] = find(3 * g->cube + mapped_axis(*g, t).first);
+    }
+  std::vector<double> sum(up.size(), 0.0);
+  std::vector<int> count(up.size(), 0);
+  for (std::size_t i = 0; i < up.size(); ++i) {
+    const std::size_t r = static_cast<std::size_t>(find(static_cast<int>(i)));
+    sum[r] += length[i / 3][i % 3], ++count[r];
+  }
+  double shortest = std::numeric_limits<double>::infinity();
+  for (std::size_t r = 0; r < up.size(); ++r)
+    if (count[r] > 0) shortest = std::min(shortest, sum[r] / count[r]);
+  const double p0 = static_cast<double>(layers) / (elements + 2 * layers);
+  std::vector<std::array<double, 3>> p(k.glue.size());
+  for (std::size_t i = 0; i < up.size(); ++i) {
+    const std::size_t r = static_cast<std::size_t>(find(static_cast<int>(i)));
+    p[i / 3][i % 3] = p0 * shortest / (sum[r] / count[r]);
+  }
+  return p;
 }
 
 std::vector<std::array<int, 3>> element_counts(const CubeComplex& k, const std::vector<std::array<int, 3>>& wanted) {

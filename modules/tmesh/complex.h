@@ -86,6 +86,17 @@ std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, int element
 std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, const std::vector<std::array<int, 3>>& counts, int layers,
                                                const std::vector<std::array<double, 3>>& p, OppositePlanes opposite = OppositePlanes::refuse);
 
+/// Pillow thicknesses per cube and axis for complex_blocks that are one thickness in the solid:
+/// the axes that gluings tie (through every gluing map, the faces' normal axes too, so that the
+/// inner copies of shared vertices coincide) form classes, and a class whose mean physical
+/// length is l gets p0 · l_min / l, p0 = layers / (elements + 2 layers) the uniform thickness,
+/// l_min the shortest class's mean. One parametric thickness everywhere is physically ~4× thicker
+/// along a long cube axis (the eight's ring cubes along the ring), which shears the slabs beside
+/// a concave edge over their whole length (docs/status.md, session 25). `length[c][d]`: cube c's
+/// physical length along axis d (> 0). Throws core::ConfigError for elements < 1, layers < 1 or
+/// lengths not one positive triple per cube.
+std::vector<std::array<double, 3>> physical_pillow(const CubeComplex& k, int elements, int layers, const std::vector<std::array<double, 3>>& length);
+
 /// Element counts per cube and axis that agree across glued faces: axes that glued faces share
 /// (their tangential axes, through the gluing maps) form classes, and every axis of a class gets
 /// the largest count `wanted` asks for in it. An axis no gluing ties keeps its own wish (e.g. a

@@ -49,6 +49,10 @@ struct Params {
   /// A connector's lensed end (the rod's shoulder) gets its lens slabs pillowed within the end
   /// face's plane (pillow.h rim_pillow): the face's corners sit where its outline is smooth.
   bool rim_pillow_lenses = true;
+  /// The pillow's thickness in a connector's complex of rings and a cube (complex.h
+  /// physical_pillow): "physical" (one thickness in the solid along every axis) or "parametric"
+  /// (one thickness in every cube's parameters, as before session 25).
+  std::string pillow_thickness = "physical";
 };
 
 using Vec3 = std::array<double, 3>;

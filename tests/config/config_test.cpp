@@ -64,6 +64,10 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_FALSE(tmesh::OptimizeParams{}.slide_from_start);
   EXPECT_EQ(file.tmesh.slide_sharp_curves, tmesh::OptimizeParams{}.slide_sharp_curves);
   EXPECT_TRUE(file.tmesh.rim_pillow_lenses);
+  EXPECT_EQ(file.tmesh.pillow_thickness, "physical");
+  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {pillow_thickness: parametric}\n", "t")), "emitted").tmesh.pillow_thickness,
+            "parametric");
+  EXPECT_NE(config_error("tmesh: {pillow_thickness: thick}\n").find("tmesh.pillow_thickness"), std::string::npos);
   EXPECT_EQ(file.tmesh.rim_pillow_lenses, tmesh::Params{}.rim_pillow_lenses);
   const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start, slide_sharp_curves: true, rim_pillow_lenses: false}\n", "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");

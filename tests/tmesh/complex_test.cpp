@@ -235,6 +235,58 @@ TEST(CubeComplex, CubeOnARowTilesConformsAndHasFivePillowsAtTheSharedFacesCorner
   }
 }
 
+// A pillow of one thickness in the solid (physical_pillow): on the cube standing on a row, with
+// every cube 4 long along the row, 1 across it and 2 high (in cube 1's frame), the axis classes
+// get p0 / 4, p0 and p0 / 2; glued faces agree on every axis, so the blocks still tile the solid,
+// conform and have positive Jacobians; lengths that are not positive are refused.
+TEST(CubeComplex, PhysicalPillowIsOneThicknessInTheSolidAndStillConforms) {
+  for (int rotated = 0; rotated < 2; ++rotated) {
+    SCOPED_TRACE(rotated ? "cube 3 in a rotated frame" : "cube 3 in cube 1's frame");
+    AxisMap frame = shift(0, 0, -1);
+    if (rotated) frame.P = {{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}}, frame.t = {-1, 0, 0};
+    std::vector<AxisMap> to_space;
+    const tmesh::CubeComplex k = t_junction(frame, to_space);
+    const Vec3 along{4, 1, 2};  // lengths along cube 1's axes
+    std::vector<std::array<double, 3>> length(4, along);
+    for (int d = 0; d < 3; ++d) {  // cube 3's axis d is cube 1's axis e
+      Vec3 u{0, 0, 0};
+      u[static_cast<std::size_t>(d)] = 1;
+      const Vec3 w = frame.inverse().linear(u);
+      for (int e = 0; e < 3; ++e)
+        if (w[static_cast<std::size_t>(e)] != 0) length[3][static_cast<std::size_t>(d)] = along[static_cast<std::size_t>(e)];
+    }
+    const double p0 = 1.0 / 10;
+    // Lengths that differ within a class (cube 0 longer along the row): one thickness per class.
+    for (const double first : {4.0, 6.0}) {
+      length[0][0] = first;
+      const auto p = tmesh::physical_pillow(k, 8, 1, length);
+      if (first == 4.0) {
+        for (std::size_t c = 0; c < 4; ++c)
+          for (std::size_t d = 0; d < 3; ++d) EXPECT_NEAR(p[c][d], p0 * 1.0 / length[c][d], 1e-15) << "cube " << c << " axis " << d;
+      } else {
+        EXPECT_NEAR(p[0][0], p0 * 1.0 / 4.5, 1e-15);  // the row's class: (6 + 4 + 4 + 4) / 4
+      }
+      for (std::size_t c = 0; c < 4; ++c)
+        for (int f = 0; f < 6; ++f) {
+          const auto& g = k.glue[c][static_cast<std::size_t>(f)];
+          if (!g) continue;
+          for (int t = 0; t < 3; ++t)
+            for (int a = 0; a < 3; ++a)
+              if (g->map.P[a][t] != 0) {
+                EXPECT_EQ(p[c][static_cast<std::size_t>(t)], p[static_cast<std::size_t>(g->cube)][static_cast<std::size_t>(a)]);
+              }
+        }
+      const auto blocks = tmesh::complex_blocks(k, std::vector<std::array<int, 3>>(4, {8, 8, 8}), 1, p);
+      check_blocks(blocks, [&](std::size_t c, const Vec3& x) { return to_space[c](x); }, 4, 14 - 1 + 5);
+    }
+  }
+  std::vector<AxisMap> to_space;
+  const tmesh::CubeComplex k = t_junction(shift(0, 0, -1), to_space);
+  EXPECT_THROW(tmesh::physical_pillow(k, 8, 1, std::vector<std::array<double, 3>>(4, {1, 0, 1})), core::ConfigError);
+  EXPECT_THROW(tmesh::physical_pillow(k, 8, 1, std::vector<std::array<double, 3>>(3, {1, 1, 1})), core::ConfigError);
+  EXPECT_THROW(tmesh::physical_pillow(k, 8, 0, std::vector<std::array<double, 3>>(4, {1, 1, 1})), core::ConfigError);
+}
+
 TEST(CubeComplex, LocateCarriesPointsAcrossGluedFacesOnly) {
   std::vector<AxisMap> to_space;
   AxisMap frame;
