@@ -149,6 +149,26 @@ std::pair<int, int> mapped_axis(const CubeComplex::Glue& g, int t) {
   throw core::TopologyError("tmesh: a gluing map is not a signed permutation");
 }
 
+// Classes of the cubes' axes (index 3 c + d) that gluings tie: the tangential axes of every
+// glued face, and with `normal` its normal axis too. Returns each index's class root.
+std::vector<int> axis_classes(const CubeComplex& k, bool normal) {
+  std::vector<int> up(3 * k.glue.size());
+  for (std::size_t i = 0; i < up.size(); ++i) up[i] = static_cast<int>(i);
+  auto find = [&](int x) {
+    while (up[static_cast<std::size_t>(x)] != x) x = up[static_cast<std::size_t>(x)] = up[static_cast<std::size_t>(up[static_cast<std::size_t>(x)])];
+    return x;
+  };
+  for (std::size_t c = 0; c < k.glue.size(); ++c)
+    for (int f = 0; f < 6; ++f) {
+      const auto& g = k.glue[c][static_cast<std::size_t>(f)];
+      if (!g) continue;
+      for (int t = 0; t < 3; ++t)
+        if (normal || t != f / 2) up[static_cast<std::size_t>(find(3 * static_cast<int>(c) + t))] = find(3 * g->cube + mapped_axis(*g, t).first);
+    }
+  for (std::size_t i = 0; i < up.size(); ++i) up[i] = find(static_cast<int>(i));
+  return up;
+}
+
 }  // namespace
 
 std::vector<std::vector<Block>> complex_blocks(const CubeComplex& k, const std::vector<std::array<int, 3>>& counts, int layers,
@@ -217,31 +237,20 @@ std::vector<std::array<double, 3>> physical_pillow(const CubeComplex& k, int ele
   for (const auto& l : length)
     for (const double x : l)
       if (!(x > 0) || !std::isfinite(x)) throw core::ConfigError("tmesh: a cube's physical length is not positive: " + std::to_string(x));
-  std::vector<int> up(3 * k.glue.size());
-  for (std::size_t i = 0; i < up.size(); ++i) up[i] = static_cast<int>(i);
-  auto find = [&](int x) {
-    while (up[static_cast<std::size_t>(x)] != x) x = up[static_cast<std::size_t>(x)] = up[static_cast<std::size_t>(up[static_cast<std::size_t>(x)])];
-    return x;
-  };
-  for (std::size_t c = 0; c < k.glue.size(); ++c)
-    for (int f = 0; f < 6; ++f) {
-      const auto& g = k.glue[c][static_cast<std::size_t>(f)];
-      if (!g) continue;
-      for (int t = 0; t < 3; ++t) up[static_cast<std::size_t>(find(3 * static_cast<int>(c) + t))] = find(3 * g->cube + mapped_axis(*g, t).first);
-    }
-  std::vector<double> sum(up.size(), 0.0);
-  std::vector<int> count(up.size(), 0);
-  for (std::size_t i = 0; i < up.size(); ++i) {
-    const std::size_t r = static_cast<std::size_t>(find(static_cast<int>(i)));
+  const std::vector<int> cls = axis_classes(k, true);
+  std::vector<double> sum(cls.size(), 0.0);
+  std::vector<int> count(cls.size(), 0);
+  for (std::size_t i = 0; i < cls.size(); ++i) {
+    const std::size_t r = static_cast<std::size_t>(cls[i]);
     sum[r] += length[i / 3][i % 3], ++count[r];
   }
   double shortest = std::numeric_limits<double>::infinity();
-  for (std::size_t r = 0; r < up.size(); ++r)
+  for (std::size_t r = 0; r < cls.size(); ++r)
     if (count[r] > 0) shortest = std::min(shortest, sum[r] / count[r]);
   const double p0 = static_cast<double>(layers) / (elements + 2 * layers);
   std::vector<std::array<double, 3>> p(k.glue.size());
-  for (std::size_t i = 0; i < up.size(); ++i) {
-    const std::size_t r = static_cast<std::size_t>(find(static_cast<int>(i)));
+  for (std::size_t i = 0; i < cls.size(); ++i) {
+    const std::size_t r = static_cast<std::size_t>(cls[i]);
     p[i / 3][i % 3] = p0 * shortest / (sum[r] / count[r]);
   }
   return p;
@@ -250,30 +259,18 @@ std::vector<std::array<double, 3>> physical_pillow(const CubeComplex& k, int ele
 std::vector<std::array<int, 3>> element_counts(const CubeComplex& k, const std::vector<std::array<int, 3>>& wanted) {
   if (wanted.size() != k.glue.size())
     throw core::ConfigError("tmesh: element counts for " + std::to_string(wanted.size()) + " of " + std::to_string(k.glue.size()) + " cubes");
-  std::vector<int> up(3 * wanted.size());
-  for (std::size_t i = 0; i < up.size(); ++i) up[i] = static_cast<int>(i);
-  auto find = [&](int x) {
-    while (up[static_cast<std::size_t>(x)] != x) x = up[static_cast<std::size_t>(x)] = up[static_cast<std::size_t>(up[static_cast<std::size_t>(x)])];
-    return x;
-  };
-  for (std::size_t c = 0; c < k.glue.size(); ++c)
-    for (int f = 0; f < 6; ++f) {
-      const auto& g = k.glue[c][static_cast<std::size_t>(f)];
-      if (!g) continue;
-      for (int t = 0; t < 3; ++t)
-        if (t != f / 2) up[static_cast<std::size_t>(find(3 * static_cast<int>(c) + t))] = find(3 * g->cube + mapped_axis(*g, t).first);
-    }
-  std::vector<int> most(up.size(), 0);
+  const std::vector<int> cls = axis_classes(k, false);
+  std::vector<int> most(cls.size(), 0);
   for (std::size_t c = 0; c < wanted.size(); ++c)
     for (int d = 0; d < 3; ++d) {
       const int w = wanted[c][static_cast<std::size_t>(d)];
       if (w < 1) throw core::ConfigError("tmesh: cube " + std::to_string(c) + " asks for " + std::to_string(w) + " elements along axis " + std::to_string(d));
-      int& m = most[static_cast<std::size_t>(find(3 * static_cast<int>(c) + d))];
+      int& m = most[static_cast<std::size_t>(cls[3 * c + static_cast<std::size_t>(d)])];
       m = std::max(m, w);
     }
   std::vector<std::array<int, 3>> out(wanted.size());
   for (std::size_t c = 0; c < wanted.size(); ++c)
-    for (int d = 0; d < 3; ++d) out[c][static_cast<std::size_t>(d)] = most[static_cast<std::size_t>(find(3 * static_cast<int>(c) + d))];
+    for (int d = 0; d < 3; ++d) out[c][static_cast<std::size_t>(d)] = most[static_cast<std::size_t>(cls[3 * c + static_cast<std::size_t>(d)])];
   return out;
 }
 
