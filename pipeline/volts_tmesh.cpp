@@ -66,6 +66,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     tmesh::OptimizeParams op;
     op.sweeps = ctx.config.tmesh.optimize_sweeps;
     op.joint_rounds = ctx.config.tmesh.joint_rounds;
+    op.cycles = ctx.config.tmesh.optimize_cycles;
     op.joint_evaluations = ctx.config.tmesh.joint_evaluations;
     op.joint_sharpness = ctx.config.tmesh.joint_sharpness;
     op.joint_window = ctx.config.tmesh.joint_window;
@@ -100,7 +101,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
                          {"bezier_min_scaled_jacobian_before", opt.min_before}, {"bezier_min_scaled_jacobian_after", opt.min_after},
                          {"not_certified_valid_before", opt.invalid_before}, {"not_certified_valid_after", opt.invalid_after},
                          {"stop_reason", opt.stop_reason}, {"sweeps_cut_at_node_bound", opt.sweeps_cut_at_node_bound},
-                         {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds},
+                         {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds}, {"cycles", opt.cycles},
                          {"surface_nodes_slid", opt.surface_nodes_slid}, {"worst_blocks", worst_blocks(ts, opt)}};
   core::log(std::to_string(fig["blocks"].get<int>()) + " blocks, " + std::to_string(fig["elements"].get<int>()) + " elements, " +
             std::to_string(fig["nodes"].get<int>()) + " nodes, min control-net scaled Jacobian " + std::to_string(after));

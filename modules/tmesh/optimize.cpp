@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <optional>
@@ -907,6 +908,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   if (!(params.min_gain >= 0 && params.min_gain <= 1) || !(params.min_fixed_rel >= 0 && params.min_fixed_rel <= 1) ||
       params.patience < 1 || params.patience > 100)
     throw core::ConfigError("tmesh optimization: min_gain and min_fixed_rel must be in [0, 1] and patience in [1, 100]");
+  if (params.cycles < 1 || params.cycles > 100) throw core::ConfigError("tmesh.optimize_cycles must be in [1, 100], got " + std::to_string(params.cycles));
   if (params.trilinear_sweeps < 0 || params.trilinear_sweeps > 100 || !(params.trilinear_target >= -1 && params.trilinear_target <= 1))
     throw core::ConfigError("tmesh optimization: trilinear_sweeps must be in [0, 100] and trilinear_target in [-1, 1]");
   if (params.joint_rounds < 0 || params.joint_rounds > 100 || params.joint_evaluations < 1 || params.joint_evaluations > 100000 ||
@@ -938,7 +940,17 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   };
   summary(&r.min_before, &r.invalid_before);
   for (const Quality& x : q) r.element_before.push_back(x.scaled);
-  if (params.sweeps > 0) {
+  // Cycles: joint rounds, then per-node sweeps, again from where they stopped (OptimizeParams::cycles).
+  for (int cycle = 0; cycle < params.cycles; ++cycle) {
+  double cycle_start = 0;
+  int cycle_invalid = 0;
+  summary(&cycle_start, &cycle_invalid);
+  r.stop_reason.clear();
+  if (params.sweeps > 0 && cycle > 0) {
+    core::LogSection phase("cycle " + std::to_string(cycle + 1) + ": joint rounds" + (surface ? " sliding" : ""));
+    joint_phase(s, q, samples, pool, params, surface, r);
+  }
+  if (params.sweeps > 0 && cycle == 0) {
     // Surface nodes fixed first, then (given the surface) sliding from where those rounds stopped:
     // every kept round raises the worst figure, so sliding can only add to the fixed result.
     if (!surface || !params.slide_from_start) {
@@ -1124,13 +1136,23 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
       break;
     }
   }
+  sweeps_phase.reset();
+  r.cycles = cycle + 1;
+  double cycle_end = 0;
+  int cycle_invalid_end = 0;
+  summary(&cycle_end, &cycle_invalid_end);
+  if (params.cycles > 1)
+    core::log("cycle " + std::to_string(cycle + 1) + ": worst scaled Jacobian " + std::to_string(cycle_start) + " -> " + std::to_string(cycle_end) +
+              ", not certified valid " + std::to_string(cycle_invalid) + " -> " + std::to_string(cycle_invalid_end));
+  if (r.stop_reason == "no_element_below_target" || r.stop_reason == "disabled") break;
+  if (cycle_invalid_end >= cycle_invalid && cycle_end < cycle_start + params.min_gain) break;
+  }
   if (r.stop_reason.empty()) {
     r.stop_reason = params.sweeps == 0 ? "disabled" : "sweep_bound";
     if (params.sweeps > 0)
       core::log_warning("optimization stopped at its bound of " + std::to_string(params.sweeps) +
                         " sweeps (tmesh.optimize_sweeps) while moves still raised the worst scaled Jacobian");
   }
-  sweeps_phase.reset();
   {
     core::LogSection phase("trilinear pass");
     trilinear_phase(s, q, samples, pool, params, r);

@@ -34,6 +34,8 @@ struct Params {
   /// (OptimizeParams::joint_rounds / joint_evaluations / joint_sharpness / joint_window)
   /// [0, 100] / [1, 100000] / (0, 1000] per unit of scaled Jacobian / [0, 1] scaled Jacobian.
   int joint_rounds = 30;
+  /// Cycles of joint rounds and per-node sweeps (OptimizeParams::cycles) [1, 100].
+  int optimize_cycles = 10;
   int joint_evaluations = 100;
   double joint_sharpness = 40;
   double joint_window = 0.1;

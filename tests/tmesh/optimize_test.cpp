@@ -265,6 +265,32 @@ TEST(Optimize, NarrowedJointRoundsGoOnWhereFullRoundsAreRefused) {
   EXPECT_GE(gained, 1);  // the window is not a no-op on this family
 }
 
+// Cycles (OptimizeParams::cycles): the joint rounds run again after the sweeps, from where they
+// left the nodes. The first cycle is the one-cycle run, every later one keeps only gains, so over
+// the twists they end at least as high, never lose a certificate, keep surface points, run at
+// most `cycles` cycles, and raise the worst figure somewhere.
+TEST(Optimize, CyclesGoOnWhereOneCycleStops) {
+  int gained = 0;
+  for_each_twist([&gained](double twist, int pillow) {
+    tmesh::OptimizeParams op = twist_family_params();
+    std::vector<tmesh::TMesh> cycled = blocks(pillow, twist), once = blocks(pillow, twist);
+    const std::vector<tmesh::TMesh> start = cycled;
+    const tmesh::OptimizeResult r1 = tmesh::optimize(once, op);
+    op.cycles = 4;
+    const tmesh::OptimizeResult rc = tmesh::optimize(cycled, op);
+    std::printf("twist %.1f pillow %d: worst %.4f -> one cycle %.4f, %d cycles %.4f (%d not valid)\n", twist, pillow, r1.min_before, r1.min_after,
+                rc.cycles, rc.min_after, rc.invalid_after);
+    EXPECT_EQ(r1.cycles, 1);
+    EXPECT_GE(rc.cycles, 1);
+    EXPECT_LE(rc.cycles, 4);
+    EXPECT_GE(rc.min_after, r1.min_after - 1e-12);
+    EXPECT_LE(rc.invalid_after, r1.invalid_after);
+    gained += rc.min_after > r1.min_after + 1e-4 ? 1 : 0;
+    expect_surface_kept_and_shared_together(cycled, start);
+  });
+  EXPECT_GE(gained, 1);  // cycles are not a no-op on this family
+}
+
 TEST(Optimize, ParametersOutOfRangeAreRefused) {
   std::vector<tmesh::TMesh> ts = blocks(0);
   tmesh::OptimizeParams op;
@@ -292,4 +318,8 @@ TEST(Optimize, ParametersOutOfRangeAreRefused) {
   EXPECT_THROW(tmesh::optimize(ts, j), core::ConfigError);
   j = {}, j.joint_evaluations = 0;
   EXPECT_THROW(tmesh::optimize(ts, j), core::ConfigError);
+  for (const int bad : {0, 101}) {
+    j = {}, j.cycles = bad;
+    EXPECT_THROW(tmesh::optimize(ts, j), core::ConfigError);
+  }
 }
