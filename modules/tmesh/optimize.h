@@ -109,7 +109,7 @@ struct OptimizeResult {
   double min_before = 0, min_after = 0;     ///< worst sampled scaled Jacobian of the Bézier elements
   int invalid_before = 0, invalid_after = 0;  ///< elements not certified valid
   int nodes_moved = 0;
-  int sweeps = 0;                           ///< sweeps run (stops early when a sweep moves nothing)
+  int sweeps = 0;                           ///< sweeps run, over all cycles (a cycle stops early when a sweep moves nothing)
   int sweeps_cut_at_node_bound = 0;         ///< sweeps that stopped at `max_nodes_per_sweep`
   /// Why it stopped: "no_element_below_target", "no_move" (a sweep moved nothing), "stalled" (`patience`
   /// sweeps in a row made too little progress, see min_gain), "disabled" (0 sweeps) or "sweep_bound" (`sweeps` ran
