@@ -8,7 +8,7 @@
 // goes on. The table is printed twice: aligned text, then Markdown (for docs/benchmarks.md).
 // Configs are configs/default.yaml with only the input set, extract.exports [vtu] (the solver
 // exports are not part of the paper's construction time; --all-exports keeps them) and a model's
-// own config lines where it has any (the rod: its cut), quoted next to its input.
+// own config lines where it has any, quoted next to its input.
 // Usage: bench_pipeline [--models a,b] [--workdir DIR] [--timeout S] [--json FILE] [--models-dir DIR]
 //                       [--volts PATH] [--all-exports] [--list]
 #include <signal.h>
@@ -64,10 +64,9 @@ const std::vector<Model>& all_models() {
       {"torus", "torus", "", 24, &kTorus, 0.5},
       {"cinolib_torus", "", "cinolib_torus.obj", 24, &kTorus, 0.5},
       {"eight", "", "cfwen_eight.off", 24, &kEight, 0.4},
-      // The shank runs almost to the eyes: cut there (at 0.5 each ring keeps half the shank), the
-      // small end on the shoulder; longer joint rounds, sliding from the start (examples/rod.yaml).
-      {"rod", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4,
-       "split: {connector_cut: 0.85, connector_end: shoulder}\ntmesh: {joint_evaluations: 300, slide_from: start}"},
+      // Defaults since session 26: split.genus2 auto cuts the shank near its eyes (0.85) where 0.5
+      // fails, its small end on the shoulder (examples/rod.yaml).
+      {"rod", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4},
       {"tube", "", "vhacd_tube1.off", 24, nullptr},
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},

@@ -131,13 +131,24 @@ Decomposition split(const surface::Mesh& mesh, const classify::Classification& c
     if (params.genus2 != "auto") return detail::split_two_tori(mesh, params, &c);
     Params p = params;
     p.genus2 = "connector";
-    try {
-      return detail::split_two_tori(mesh, p, &c);
-    } catch (const core::TopologyError& e) {
-      core::log_warning(std::string("split: no connector cube between the two tori (") + e.what() +
-                        "); they meet on the waist's disk instead, which is not a conforming interface (split.genus2: disk). "
-                        "Cuts nearer the holes may let the neck be cut: split.connector_cut, e.g. 0.85 where a shank runs to its eyes (examples/rod.yaml)");
+    // The connector at split.connector_cut, then with its ends near the holes (a shank that runs
+    // almost to its eyes, the rod: at 0.5 its rings' cross sections cross its sharp curves twice).
+    std::vector<double> cuts{params.connector_cut};
+    if (params.connector_cut < auto_connector_cut) cuts.push_back(auto_connector_cut);
+    std::string why;
+    for (const double cut : cuts) {
+      p.connector_cut = cut;
+      try {
+        if (cut != params.connector_cut) core::log("split: a connector with its ends " + std::to_string(cut) + " of the way to the holes");
+        return detail::split_two_tori(mesh, p, &c);
+      } catch (const core::TopologyError& e) {
+        why += (why.empty() ? "" : "; ") + ("at connector_cut " + std::to_string(cut) + ": " + e.what());
+      }
     }
+    core::log_warning("split: no connector cube between the two tori (" + why +
+                      "); they meet on the waist's disk instead, which is not a conforming interface (split.genus2: disk). "
+                      "Other cuts may let the neck be cut: split.connector_cut");
+    p.connector_cut = params.connector_cut;
     p.genus2 = "disk";
     return detail::split_two_tori(mesh, p, &c);
   }

@@ -28,6 +28,10 @@
 
 namespace volts::split {
 
+/// split.genus2: auto's second try for the connector's ends when split.connector_cut cannot cut
+/// the neck: near the holes (the rod's shank runs almost to its eyes).
+constexpr double auto_connector_cut = 0.85;
+
 /// Parameters of split().
 struct Params {
   /// Points that get the min and max of the first harmonic field (§4.1 step 1), snapped to the
@@ -44,8 +48,9 @@ struct Params {
   /// A genus-2 surface becomes: "disk" (two tori meeting on the disk that fills their waist: not
   /// a conforming interface, the eight's hausdorff_rel is 0.09), "connector" (two tori and a cube
   /// between them, the neck or shank, whose ends are whole faces of the tori; Liu et al. §6, the
-  /// rod and the eight: conforming) or "auto" (connector; disk, with a warning, if split cannot
-  /// cut the neck — the rod at connector_cut 0.5)
+  /// rod and the eight: conforming) or "auto" (connector at connector_cut; if split cannot cut
+  /// the neck there, at auto_connector_cut (the rod: at 0.5 its rings' cross sections cross the
+  /// shank's sharp curves twice); else disk, with a warning)
   std::string genus2 = "auto";
   /// connector: its ends lie this fraction of the way from the waist to the saddle at each hole
   /// (level sets of the first harmonic field) [0.05, 0.95]
@@ -55,7 +60,7 @@ struct Params {
   /// smooth sides; the rod's small end; where the shoulder's faces are lenses between a concave
   /// and a convex curve, the connector's end face is its disk and both lenses, which polycube maps
   /// as three strips and tmesh glues to the ring in part)
-  std::string connector_end = "level";
+  std::string connector_end = "shoulder";
 };
 
 enum class ComponentType { cube, torus_cube, virtual_component };

@@ -62,7 +62,7 @@ struct OptimizeParams {
   /// elements (`min_fixed_rel`) nor raises the worst figure enough (`min_gain`), or when every
   /// sample reaches `target`.
   int joint_rounds = 30;         ///< [0, 100]; 0 = per-node sweeps only
-  int joint_evaluations = 100;   ///< bound on objective and gradient evaluations per round [1, 100000]
+  int joint_evaluations = 300;   ///< bound on objective and gradient evaluations per round [1, 100000]
   double joint_sharpness = 40;   ///< β, per unit of scaled Jacobian (0, 1000]
   /// Elements not certified valid are sampled on a uniform grid of this many points per direction
   /// instead (a fold can lie between the Gauss points) [2, 32]

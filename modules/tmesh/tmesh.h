@@ -36,7 +36,7 @@ struct Params {
   int joint_rounds = 30;
   /// Cycles of joint rounds and per-node sweeps (OptimizeParams::cycles) [1, 100].
   int optimize_cycles = 10;
-  int joint_evaluations = 100;
+  int joint_evaluations = 300;
   double joint_sharpness = 40;
   double joint_window = 0.1;
   /// The joint rounds slide surface nodes along the input surface where no sharp edge is within

@@ -169,6 +169,7 @@ TEST(Connector, RodCutNearItsEyesMapsItsNeckWithoutFlippedTets) {
   split::Params sp;
   sp.genus2 = "connector";
   sp.connector_cut = 0.85;
+  sp.connector_end = "level";
   const split::Decomposition d = split::split(mesh, classify::classify(mesh, {}), sp);
   const auto rings = polycube::rings(d);
   const polycube::Ring neck = polycube::connector(d).value();

@@ -14,7 +14,14 @@ using namespace volts;
 
 namespace {
 
-split::Decomposition decompose(const surface::Mesh& m) { return split::split(m, classify::classify(m, {}), {}); }
+// Level ends for a connector: a shoulder end (the rod's default) is one face of three patches that
+// meet the ring's face in part, whose sides are not shared whole; polycube maps that face as
+// strips (Connector.RodShoulderEndFaceIsMappedAsLensDiskLensStrips).
+split::Decomposition decompose(const surface::Mesh& m) {
+  split::Params p;
+  p.connector_end = "level";
+  return split::split(m, classify::classify(m, {}), p);
+}
 
 surface::Mesh model(const std::string& name) {
   if (name.find('.') != std::string::npos) return surface::read_surface(std::string(VOLTS_SHARED_MODELS) + "/" + name);

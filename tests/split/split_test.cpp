@@ -330,9 +330,11 @@ TEST(Split, EightIsTwoToriOfFourCubesMeetingOnAFilledDisk) {
   EXPECT_EQ(meets, 1);
 }
 
-// split.genus2 auto (the default): a connector where split can cut the neck (the eight: the same
-// decomposition as genus2 connector), else the disk, with a warning (the rod at connector_cut
-// 0.5: a cross section crosses a longitudinal line more than once).
+// split.genus2 auto (the default): a connector where split can cut the neck at connector_cut (the
+// eight: the same decomposition as genus2 connector), else at auto_connector_cut (the rod: at
+// 0.5 a cross section crosses a longitudinal line more than once; the same decomposition as
+// genus2 connector at 0.85), else the disk, with a warning (the rod at 0.95, past the second try:
+// the planar fill of its small end crosses the surface).
 TEST(Split, Genus2AutoIsAConnectorWhereTheNeckCanBeCutElseTheDisk) {
   split::Params c;
   c.genus2 = "connector";
@@ -341,11 +343,18 @@ TEST(Split, Genus2AutoIsAConnectorWhereTheNeckCanBeCutElseTheDisk) {
   EXPECT_EQ(split::to_json(eight).dump(), split::to_json(run_split(shared("cfwen_eight.off"), c)).dump());
   EXPECT_THROW(run_split(shared("loopycuts_rod_rem.obj"), c), core::TopologyError);
   const auto rod = run_split(shared("loopycuts_rod_rem.obj"));
-  EXPECT_EQ(rod.genus2, "disk");
-  EXPECT_EQ(rod.tori.size(), 2u);
+  EXPECT_EQ(rod.genus2, "connector");
+  EXPECT_EQ(rod.components.size(), 9u);
+  c.connector_cut = split::auto_connector_cut;
+  EXPECT_EQ(split::to_json(rod).dump(), split::to_json(run_split(shared("loopycuts_rod_rem.obj"), c)).dump());
+  split::Params far;
+  far.connector_cut = 0.95;
+  const auto disk = run_split(shared("loopycuts_rod_rem.obj"), far);
+  EXPECT_EQ(disk.genus2, "disk");
+  EXPECT_EQ(disk.tori.size(), 2u);
   split::Params d;
   d.genus2 = "disk";
-  EXPECT_EQ(split::to_json(rod).dump(), split::to_json(run_split(shared("loopycuts_rod_rem.obj"), d)).dump());
+  EXPECT_EQ(split::to_json(disk).dump(), split::to_json(run_split(shared("loopycuts_rod_rem.obj"), d)).dump());
 }
 
 // The closed surface of each torus (its cubes' patches: ring and disk) and of the neck cube (its
@@ -387,6 +396,7 @@ TEST(Split, RodCutNearItsEyesIsTwoToriAndAConnectorWhoseSurfacesDoNotCrossThemse
   // bridging the rims' notches); the fills are then made in the rims' planes.
   split::Params p;
   p.connector_cut = 0.85;
+  p.connector_end = "level";
   const auto rod = run_split(shared("loopycuts_rod_rem.obj"), p);
   EXPECT_EQ(rod.genus2, "connector");
   EXPECT_EQ(rod.planar_fills, 2);  // both disks: CGAL's fill crossed ring 1, then the neck
@@ -419,6 +429,7 @@ TEST(Split, RodCutNearItsEyesIsTwoToriAndAConnectorWhoseSurfacesDoNotCrossThemse
 TEST(Split, RodConnectorEndsOnTheShoulderOfItsSmallEye) {
   split::Params p;
   p.connector_cut = 0.85;
+  p.connector_end = "level";
   auto small_fill = [](const split::Decomposition& d) {
     std::array<double, 4> r{1e9, -1e9, 1e9, -1e9};  // x range, z range of the fill at x > 0.5
     for (std::size_t t = 0; t < d.layout.triangles.size(); ++t) {
@@ -473,7 +484,7 @@ TEST(Split, RodConnectorEndsOnTheShoulderOfItsSmallEye) {
   EXPECT_EQ(ends, 1);
   // The eight has no shoulder: its ends stay on the level sets (the same decomposition).
   split::Params q;
-  q.connector_end = "shoulder";
+  q.connector_end = "level";
   EXPECT_EQ(run_split(shared("cfwen_eight.off")).layout.points, run_split(shared("cfwen_eight.off"), q).layout.points);
   p.connector_end = "elsewhere";
   EXPECT_THROW(run_split(shared("cfwen_eight.off"), p), core::ConfigError);
@@ -640,14 +651,15 @@ TEST(Split, ConnectorSideCurvesLeaveTheDisksAcrossTheirRims) {
   EXPECT_EQ(checked, 16);
 }
 
-TEST(Split, RodIsTwoToriWithDefaults) {
-  // A CAD part of genus 2 (an eye and a small hole). Its sharp curves are not followed by the
-  // genus-2 cuts yet (docs/status.md); the decomposition itself must hold.
+TEST(Split, RodIsTwoToriAndAConnectorWithDefaults) {
+  // A CAD part of genus 2 (an eye and a small hole): with the defaults, two tori of four cubes
+  // and the shank's cube between them, its small end on the shoulder (examples/rod.yaml).
   const auto d = run_split(shared("loopycuts_rod_rem.obj"));
   check_decomposition(d);
   EXPECT_EQ(d.genus, 2);
+  EXPECT_EQ(d.genus2, "connector");
   EXPECT_EQ(d.tori.size(), 2u);
-  EXPECT_EQ(d.components.size(), 8u);
+  EXPECT_EQ(d.components.size(), 9u);
 }
 
 TEST(Split, CrossSectionThroughAGivenPoint) {
