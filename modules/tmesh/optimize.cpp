@@ -620,6 +620,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
                  const OptimizeParams& params, const SlideSurface* surface, OptimizeResult& r) {
   const bezier::CertifyParams cp;
   double window = 0;  // > 0: only elements within it of the worst figure (OptimizeParams::joint_window)
+  std::vector<int> refused_ids;  // the variables of the last refused round
   for (int round = 0; round < params.joint_rounds; ++round) {
     // Variables: interior nodes of the elements below the target (or not certified valid), three
     // coordinates each, and with a surface its nodes that may slide, two tangent coordinates each.
@@ -651,6 +652,15 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       }
     }
     if (ids.empty()) return;
+    // A refused round leaves every node where it was, so a narrowed window that selects the same
+    // nodes poses the same problem and would be refused again: narrow on without running it (the
+    // rod: three such rounds of 300 evaluations in a row).
+    if (ids == refused_ids) {
+      window *= 0.5;
+      if (!(window >= params.joint_window / 8)) return;
+      core::log("joint rounds: the same nodes as the refused round; the window narrows to " + std::to_string(window));
+      continue;
+    }
     std::vector<int> els;  // every element a variable node supports
     {
       std::vector<char> in(s.size(), 0);
@@ -887,12 +897,14 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     if (!accepted) {
       // Refused (the step cost elements more than it gained them): go on with the elements near
       // the worst only, then with half that window, while every element is certified valid.
+      refused_ids = ids;
       window = window > 0 ? 0.5 * window : params.joint_window;
       if (invalid_before > 0 || !(window >= params.joint_window / 8) || !(window > 0)) return;
       core::log("joint rounds go on with the elements within " + std::to_string(window) + " of the worst");
       continue;
     }
     ++r.joint_rounds;
+    refused_ids.clear();  // the nodes moved: the same selection is a new problem
     const bool progress = (invalid_before > 0 && invalid_before - invalid >= std::max(1.0, params.min_fixed_rel * invalid_before)) ||
                           after >= before + params.min_gain;
     if (!progress) return;
