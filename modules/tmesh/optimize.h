@@ -93,6 +93,9 @@ struct OptimizeParams {
   /// (the Bézier result stands; nodes of elements not certified valid are left to the Bézier
   /// pass; at most `max_nodes_per_sweep` nodes per pass). A curved element can be valid while the
   /// hex of its corners folds (the eight: Bézier worst 0.154, trilinear -0.12).
+  /// Stops earlier when a pass moves nothing or no element is below the target. Measured on the
+  /// rod (session 26): −0.063, −0.033, −0.018 after 3 passes, −0.013 after 20 (10–20 nodes moved
+  /// in each): the rest is held by nodes the pass may not move.
   int trilinear_sweeps = 3;        ///< [0, 100]
   /// The joint rounds and the per-node sweeps alternate: once the sweeps stop, the joint rounds
   /// (sliding, given a surface) run again from where the sweeps left the nodes, then the sweeps,

@@ -36,6 +36,9 @@ struct Params {
   int joint_rounds = 30;
   /// Cycles of joint rounds and per-node sweeps (OptimizeParams::cycles) [1, 100].
   int optimize_cycles = 10;
+  /// Bound on passes of the trilinear pass after the Bézier optimization
+  /// (OptimizeParams::trilinear_sweeps) [0, 100]; 0 = none.
+  int trilinear_sweeps = 3;
   int joint_evaluations = 300;
   double joint_sharpness = 40;
   double joint_window = 0.1;
