@@ -654,7 +654,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     if (ids.empty()) return;
     // A refused round leaves every node where it was, so a narrowed window that selects the same
     // nodes poses the same problem and would be refused again: narrow on without running it (the
-    // rod: three such rounds of 300 evaluations in a row).
+    // rod's fixed rounds: three such rounds of 96 nodes in a row).
     if (ids == refused_ids) {
       window *= 0.5;
       if (!(window >= params.joint_window / 8)) return;
