@@ -58,6 +58,7 @@ TEST(Config, JointOptimizationAndConnectorSmoothingKeys) {
   EXPECT_EQ(d.tmesh.optimize_cycles, 3);
   EXPECT_EQ(d.tmesh.trilinear_sweeps, 7);
   EXPECT_NE(config_error("tmesh: {optimize_cycles: 0}\n").find("tmesh.optimize_cycles: 0 is out of range [1, 100]"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {trilinear_sweeps: 101}\n").find("tmesh.trilinear_sweeps: 101 is out of range [0, 100]"), std::string::npos);
   EXPECT_DOUBLE_EQ(d.tmesh.joint_sharpness, 150);
   EXPECT_DOUBLE_EQ(d.polycube.connector_smooth_below_ratio, 0.5);
   EXPECT_NE(config_error("tmesh: {joint_rounds: 101}\n").find("tmesh.joint_rounds: 101 is out of range [0, 100]"), std::string::npos);
