@@ -97,6 +97,7 @@ struct OptimizeParams {
   /// rod (session 26): −0.063, −0.033, −0.018 after 3 passes, −0.013 after 20 (10–20 nodes moved
   /// in each): the rest is held by nodes the pass may not move.
   int trilinear_sweeps = 3;        ///< [0, 100]
+  double trilinear_target = 0.05;  ///< scaled Jacobian (dimensionless) [-1, 1]
   /// The joint rounds and the per-node sweeps alternate: once the sweeps stop, the joint rounds
   /// (sliding, given a surface) run again from where the sweeps left the nodes, then the sweeps,
   /// up to `cycles` times (the trilinear pass once at the end). The joint rounds stall where the
@@ -105,7 +106,6 @@ struct OptimizeParams {
   /// figure by less than `min_gain`, or when no element is below the target. Measured on the rod
   /// (docs/status.md, session 26): 0.351 with one cycle, 0.387 with two, 0.399 with five. [1, 100]
   int cycles = 1;
-  double trilinear_target = 0.05;  ///< scaled Jacobian (dimensionless) [-1, 1]
 };
 
 struct OptimizeResult {
