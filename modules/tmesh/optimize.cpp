@@ -6,7 +6,6 @@
 #include <array>
 #include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <optional>
@@ -911,6 +910,194 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
   }
 }
 
+// The worst sampled figure and the count of elements not certified valid.
+void summarize(const std::vector<Quality>& q, double* worst, int* invalid) {
+  *worst = std::numeric_limits<double>::infinity(), *invalid = 0;
+  for (const auto& x : q) *worst = std::min(*worst, x.scaled), *invalid += x.valid ? 0 : 1;
+}
+
+// The per-node sweeps (OptimizeParams::sweeps, max_nodes_per_sweep, min_gain, patience): worst
+// elements first, each interior node moved where it raises the worst figure of its elements.
+void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, std::vector<XRowSamples>& x_rows,
+                 core::ThreadPool& pool, const OptimizeParams& params, OptimizeResult& r) {
+  const bezier::CertifyParams cp;
+  auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
+  double last_worst = 0;
+  int last_invalid = 0, stalled = 0;
+  summary(&last_worst, &last_invalid);
+  std::optional<core::LogSection> sweeps_phase;
+  if (params.sweeps > 0) sweeps_phase.emplace("per-node sweeps");
+  for (int sweep = 0; sweep < params.sweeps; ++sweep) {
+    std::vector<std::size_t> bad;
+    for (std::size_t e = 0; e < s.size(); ++e)
+      if (q[e].scaled < params.target || !q[e].valid) bad.push_back(e);
+    // Elements not certified valid first (a sample can miss their fold), then worst first.
+    std::sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) {
+      return q[a].valid != q[b].valid ? !q[a].valid : q[a].scaled < q[b].scaled;
+    });
+    if (bad.empty()) {
+      r.stop_reason = "no_element_below_target";
+      break;
+    }
+    int moved = 0;
+    std::set<int> visited;  // a node is moved once per sweep, for the worst element it supports
+    int tried = 0;
+    for (const std::size_t e : bad) {
+      if (q[e].scaled >= params.target && q[e].valid) continue;  // improved by an earlier move this sweep
+      const std::vector<int> nodes = fresh_interior_nodes(s, e, visited);
+      for (const int id : nodes) {
+        if (++tried > params.max_nodes_per_sweep) break;
+        const std::vector<int>& els = s.elements_of(id);
+        const auto x0 = s.position(id);
+        const double h = 0.5 * s.neighbour_distance(id);
+        if (!std::isfinite(h) || h <= 0) continue;
+        // Elements not certified valid also count with their certified lower bound of det J
+        // relative to its mean: a sample can miss the fold. The search looks only at the node's
+        // elements within `margin` of the target (the others are far from being the worst);
+        // the move is then checked on all of them.
+        std::vector<int> near;
+        for (const int x : els)
+          if (q[static_cast<std::size_t>(x)].scaled < params.target + params.margin || !q[static_cast<std::size_t>(x)].valid) near.push_back(x);
+        auto objective_on = [&](const std::vector<double>& d, const auto& set) {
+          s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
+          // Per element on the pool (sampled figure, then the certified one), reduced in order.
+          std::vector<std::array<double, 2>> v(set.size(), {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
+          pool.for_each(set.size(), [&](std::size_t i) {
+            const bezier::BezierHex hx = s.hex(static_cast<std::size_t>(set[i]));
+            v[i][0] = bezier::sample_jacobian(hx, params.gauss_points).min_scaled;
+            if (!q[static_cast<std::size_t>(set[i])].valid) {
+              const bezier::CertifyResult c = bezier::certify(hx, cp);
+              if (c.mean_detj > 0) v[i][1] = c.min_detj_lower / c.mean_detj;
+            }
+          }, 1);
+          double worst = std::numeric_limits<double>::infinity();
+          for (const auto& [sampled, certified] : v) worst = std::min(std::min(worst, sampled), certified);
+          return worst;
+        };
+        // The search's objective on certified-valid elements without re-evaluating them: J is
+        // linear in the node's position, J(x0 + δ) = J(x0) + δ ∇N(u)ᵀ at every sample point u
+        // (∇N: gradient of the node's basis function there), so each element's sampled J(x0) and
+        // ∇N are taken once per node. Most of the optimization's time was these re-evaluations.
+        AffineSamples linear;
+        std::vector<int> direct;  // elements not certified valid: re-evaluated and certified per call
+        std::vector<int> linearized;
+        for (const int x : near) (q[static_cast<std::size_t>(x)].valid ? linearized : direct).push_back(x);
+        // Row x of the samples with the node moved by h along x, per element (in parallel), then
+        // added in element order.
+        std::vector<std::vector<Eigen::RowVector3d>> J1(linearized.size());
+        s.set_position(id, {x0[0] + h, x0[1], x0[2]});
+        pool.for_each(linearized.size(), [&](std::size_t k) {
+          const std::size_t x = static_cast<std::size_t>(linearized[k]);
+          x_rows[static_cast<std::size_t>(s.block_of(x))](s.hex_x(x), J1[k]);
+        }, 4);
+        s.set_position(id, x0);
+        for (std::size_t k = 0; k < linearized.size(); ++k) {
+          const std::vector<Eigen::Matrix3d>& J0 = samples[static_cast<std::size_t>(linearized[k])];
+          for (std::size_t i = 0; i < J1[k].size(); ++i) linear.add(J0[i], (J1[k][i] - J0[i].row(0)) / h);
+        }
+        auto objective = [&](const std::vector<double>& d) {
+          const double worst = linear.min_scaled(d.data());
+          return direct.empty() ? worst : std::min(worst, objective_on(d, direct));
+        };
+        std::vector<double> d(3, 0.0);
+        // The objective over all the node's elements at x0: sampled figures from q, certified
+        // ones of the elements not certified valid.
+        std::vector<int> not_valid;
+        double before = std::numeric_limits<double>::infinity();
+        for (const int x : els) {
+          if (q[static_cast<std::size_t>(x)].valid) before = std::min(before, q[static_cast<std::size_t>(x)].scaled);
+          else not_valid.push_back(x);
+        }
+        if (!not_valid.empty()) before = std::min(before, objective_on(d, not_valid));
+        double best = objective(d);
+        maximize_in_box(objective, h, params.max_evaluations, d, best);
+        // Accept only a real gain (the objective over all the node's elements, evaluated anew)
+        // that keeps every certified-valid element valid. At d = 0 the objective is `before`
+        // exactly: no gain. The sampled figures decide first, so moves without a gain (most of
+        // them) cost no certification of the valid elements.
+        if (d[0] == 0 && d[1] == 0 && d[2] == 0) {
+          s.set_position(id, x0);
+          continue;
+        }
+        s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
+        std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
+        std::vector<Quality> now(els.size());
+        // Accepted iff every element's new figure exceeds `before` (and, for elements not certified
+        // valid, its certified lower bound relative to its mean det J) and every certified-valid
+        // element stays certified valid. Evaluated on the pool, worst elements first; the first
+        // element that fails stops the others (the decision and, when accepted, every element's
+        // new figures are those of a serial pass).
+        std::vector<std::size_t> order(els.size());
+        for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+          return q[static_cast<std::size_t>(els[a])].scaled < q[static_cast<std::size_t>(els[b])].scaled;
+        });
+        std::atomic<bool> refused{false};
+        pool.for_each(order.size(), [&](std::size_t i) {
+          if (refused) return;
+          const std::size_t k = order[i];
+          const std::size_t x = static_cast<std::size_t>(els[k]);
+          const bezier::BezierHex hex = s.hex(x);
+          js[k] = bezier::jacobian_samples(hex, params.gauss_points);
+          now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
+          double value = now[k].scaled;
+          if (!q[x].valid) {
+            const bezier::CertifyResult c = bezier::certify(hex, cp);
+            now[k].valid = c.status == bezier::Validity::valid;
+            if (c.mean_detj > 0) value = std::min(value, c.min_detj_lower / c.mean_detj);
+          }
+          if (!(value > before + 1e-9)) {
+            refused = true;
+            return;
+          }
+          // A gain so far: certify the valid elements (the sampled figures refuse most moves
+          // before any of these certifications).
+          if (q[x].valid && !(now[k].valid = bezier::certify(hex, cp).status == bezier::Validity::valid)) refused = true;
+        }, 4);
+        const bool ok = !refused;
+        if (!ok) {
+          s.set_position(id, x0);
+          continue;
+        }
+        for (std::size_t k = 0; k < els.size(); ++k) {
+          q[static_cast<std::size_t>(els[k])] = now[k];
+          samples[static_cast<std::size_t>(els[k])] = std::move(js[k]);
+        }
+        ++moved;
+      }
+    }
+    ++r.sweeps;  // over all cycles
+    r.nodes_moved += moved;
+    double worst = 0;
+    int invalid = 0;
+    summary(&worst, &invalid);
+    core::log("optimization sweep " + std::to_string(sweep + 1) + ": " + std::to_string(moved) + " of " + std::to_string(std::min(tried, params.max_nodes_per_sweep)) +
+              " nodes searched moved, worst scaled Jacobian " +
+              std::to_string(worst) + ", " + std::to_string(invalid) + " elements not certified valid");
+    if (tried > params.max_nodes_per_sweep) {
+      ++r.sweeps_cut_at_node_bound;
+      core::log_warning("optimization sweep " + std::to_string(sweep + 1) + " stopped at its bound of " +
+                        std::to_string(params.max_nodes_per_sweep) + " node moves; elements below the target were left unvisited");
+    }
+    if (moved == 0) {
+      r.stop_reason = "no_move";
+      break;
+    }
+    const bool progress = last_invalid > 0
+                              ? last_invalid - invalid >= std::max(1.0, params.min_fixed_rel * last_invalid)
+                              : worst >= last_worst + params.min_gain;
+    stalled = progress ? 0 : stalled + 1;
+    last_worst = std::max(last_worst, worst), last_invalid = std::min(last_invalid, invalid);
+    if (stalled >= params.patience) {
+      r.stop_reason = "stalled";
+      core::log("optimization stalled: " + std::to_string(stalled) + " sweeps in a row made too little progress (fewer than " +
+                std::to_string(params.min_fixed_rel * 100) + " % of the invalid elements fixed, or a gain below " +
+                std::to_string(params.min_gain) + " in the worst scaled Jacobian)");
+      break;
+    }
+  }
+}
+
 }  // namespace
 
 OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
@@ -946,10 +1133,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     samples[e] = bezier::jacobian_samples(h, params.gauss_points);
     q[e] = Quality{bezier::summarize_jacobians(samples[e]).min_scaled, bezier::certify(h, cp).status == bezier::Validity::valid};
   });
-  auto summary = [&](double* worst, int* invalid) {
-    *worst = std::numeric_limits<double>::infinity(), *invalid = 0;
-    for (const auto& x : q) *worst = std::min(*worst, x.scaled), *invalid += x.valid ? 0 : 1;
-  };
+  auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
   summary(&r.min_before, &r.invalid_before);
   for (const Quality& x : q) r.element_before.push_back(x.scaled);
   // Cycles: joint rounds, then per-node sweeps, again from where they stopped (OptimizeParams::cycles).
@@ -974,181 +1158,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         joint_phase(s, q, samples, pool, params, surface, r);
       }
     }
-    double last_worst = 0;
-    int last_invalid = 0, stalled = 0;
-    summary(&last_worst, &last_invalid);
-    std::optional<core::LogSection> sweeps_phase;
-    if (params.sweeps > 0) sweeps_phase.emplace("per-node sweeps");
-    for (int sweep = 0; sweep < params.sweeps; ++sweep) {
-      std::vector<std::size_t> bad;
-      for (std::size_t e = 0; e < s.size(); ++e)
-        if (q[e].scaled < params.target || !q[e].valid) bad.push_back(e);
-      // Elements not certified valid first (a sample can miss their fold), then worst first.
-      std::sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) {
-        return q[a].valid != q[b].valid ? !q[a].valid : q[a].scaled < q[b].scaled;
-      });
-      if (bad.empty()) {
-        r.stop_reason = "no_element_below_target";
-        break;
-      }
-      int moved = 0;
-      std::set<int> visited;  // a node is moved once per sweep, for the worst element it supports
-      int tried = 0;
-      for (const std::size_t e : bad) {
-        if (q[e].scaled >= params.target && q[e].valid) continue;  // improved by an earlier move this sweep
-        const std::vector<int> nodes = fresh_interior_nodes(s, e, visited);
-        for (const int id : nodes) {
-          if (++tried > params.max_nodes_per_sweep) break;
-          const std::vector<int>& els = s.elements_of(id);
-          const auto x0 = s.position(id);
-          const double h = 0.5 * s.neighbour_distance(id);
-          if (!std::isfinite(h) || h <= 0) continue;
-          // Elements not certified valid also count with their certified lower bound of det J
-          // relative to its mean: a sample can miss the fold. The search looks only at the node's
-          // elements within `margin` of the target (the others are far from being the worst);
-          // the move is then checked on all of them.
-          std::vector<int> near;
-          for (const int x : els)
-            if (q[static_cast<std::size_t>(x)].scaled < params.target + params.margin || !q[static_cast<std::size_t>(x)].valid) near.push_back(x);
-          auto objective_on = [&](const std::vector<double>& d, const auto& set) {
-            s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
-            // Per element on the pool (sampled figure, then the certified one), reduced in order.
-            std::vector<std::array<double, 2>> v(set.size(), {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
-            pool.for_each(set.size(), [&](std::size_t i) {
-              const bezier::BezierHex hx = s.hex(static_cast<std::size_t>(set[i]));
-              v[i][0] = bezier::sample_jacobian(hx, params.gauss_points).min_scaled;
-              if (!q[static_cast<std::size_t>(set[i])].valid) {
-                const bezier::CertifyResult c = bezier::certify(hx, cp);
-                if (c.mean_detj > 0) v[i][1] = c.min_detj_lower / c.mean_detj;
-              }
-            }, 1);
-            double worst = std::numeric_limits<double>::infinity();
-            for (const auto& [sampled, certified] : v) worst = std::min(std::min(worst, sampled), certified);
-            return worst;
-          };
-          // The search's objective on certified-valid elements without re-evaluating them: J is
-          // linear in the node's position, J(x0 + δ) = J(x0) + δ ∇N(u)ᵀ at every sample point u
-          // (∇N: gradient of the node's basis function there), so each element's sampled J(x0) and
-          // ∇N are taken once per node. Most of the optimization's time was these re-evaluations.
-          AffineSamples linear;
-          std::vector<int> direct;  // elements not certified valid: re-evaluated and certified per call
-          std::vector<int> linearized;
-          for (const int x : near) (q[static_cast<std::size_t>(x)].valid ? linearized : direct).push_back(x);
-          // Row x of the samples with the node moved by h along x, per element (in parallel), then
-          // added in element order.
-          std::vector<std::vector<Eigen::RowVector3d>> J1(linearized.size());
-          s.set_position(id, {x0[0] + h, x0[1], x0[2]});
-          pool.for_each(linearized.size(), [&](std::size_t k) {
-            const std::size_t x = static_cast<std::size_t>(linearized[k]);
-            x_rows[static_cast<std::size_t>(s.block_of(x))](s.hex_x(x), J1[k]);
-          }, 4);
-          s.set_position(id, x0);
-          for (std::size_t k = 0; k < linearized.size(); ++k) {
-            const std::vector<Eigen::Matrix3d>& J0 = samples[static_cast<std::size_t>(linearized[k])];
-            for (std::size_t i = 0; i < J1[k].size(); ++i) linear.add(J0[i], (J1[k][i] - J0[i].row(0)) / h);
-          }
-          auto objective = [&](const std::vector<double>& d) {
-            const double worst = linear.min_scaled(d.data());
-            return direct.empty() ? worst : std::min(worst, objective_on(d, direct));
-          };
-          std::vector<double> d(3, 0.0);
-          // The objective over all the node's elements at x0: sampled figures from q, certified
-          // ones of the elements not certified valid.
-          std::vector<int> not_valid;
-          double before = std::numeric_limits<double>::infinity();
-          for (const int x : els) {
-            if (q[static_cast<std::size_t>(x)].valid) before = std::min(before, q[static_cast<std::size_t>(x)].scaled);
-            else not_valid.push_back(x);
-          }
-          if (!not_valid.empty()) before = std::min(before, objective_on(d, not_valid));
-          double best = objective(d);
-          maximize_in_box(objective, h, params.max_evaluations, d, best);
-          // Accept only a real gain (the objective over all the node's elements, evaluated anew)
-          // that keeps every certified-valid element valid. At d = 0 the objective is `before`
-          // exactly: no gain. The sampled figures decide first, so moves without a gain (most of
-          // them) cost no certification of the valid elements.
-          if (d[0] == 0 && d[1] == 0 && d[2] == 0) {
-            s.set_position(id, x0);
-            continue;
-          }
-          s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
-          std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
-          std::vector<Quality> now(els.size());
-          // Accepted iff every element's new figure exceeds `before` (and, for elements not certified
-          // valid, its certified lower bound relative to its mean det J) and every certified-valid
-          // element stays certified valid. Evaluated on the pool, worst elements first; the first
-          // element that fails stops the others (the decision and, when accepted, every element's
-          // new figures are those of a serial pass).
-          std::vector<std::size_t> order(els.size());
-          for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-          std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-            return q[static_cast<std::size_t>(els[a])].scaled < q[static_cast<std::size_t>(els[b])].scaled;
-          });
-          std::atomic<bool> refused{false};
-          pool.for_each(order.size(), [&](std::size_t i) {
-            if (refused) return;
-            const std::size_t k = order[i];
-            const std::size_t x = static_cast<std::size_t>(els[k]);
-            const bezier::BezierHex hex = s.hex(x);
-            js[k] = bezier::jacobian_samples(hex, params.gauss_points);
-            now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
-            double value = now[k].scaled;
-            if (!q[x].valid) {
-              const bezier::CertifyResult c = bezier::certify(hex, cp);
-              now[k].valid = c.status == bezier::Validity::valid;
-              if (c.mean_detj > 0) value = std::min(value, c.min_detj_lower / c.mean_detj);
-            }
-            if (!(value > before + 1e-9)) {
-              refused = true;
-              return;
-            }
-            // A gain so far: certify the valid elements (the sampled figures refuse most moves
-            // before any of these certifications).
-            if (q[x].valid && !(now[k].valid = bezier::certify(hex, cp).status == bezier::Validity::valid)) refused = true;
-          }, 4);
-          const bool ok = !refused;
-          if (!ok) {
-            s.set_position(id, x0);
-            continue;
-          }
-          for (std::size_t k = 0; k < els.size(); ++k) {
-            q[static_cast<std::size_t>(els[k])] = now[k];
-            samples[static_cast<std::size_t>(els[k])] = std::move(js[k]);
-          }
-          ++moved;
-        }
-      }
-      ++r.sweeps;  // over all cycles
-      r.nodes_moved += moved;
-      double worst = 0;
-      int invalid = 0;
-      summary(&worst, &invalid);
-      core::log("optimization sweep " + std::to_string(sweep + 1) + ": " + std::to_string(moved) + " of " + std::to_string(std::min(tried, params.max_nodes_per_sweep)) +
-                " nodes searched moved, worst scaled Jacobian " +
-                std::to_string(worst) + ", " + std::to_string(invalid) + " elements not certified valid");
-      if (tried > params.max_nodes_per_sweep) {
-        ++r.sweeps_cut_at_node_bound;
-        core::log_warning("optimization sweep " + std::to_string(sweep + 1) + " stopped at its bound of " +
-                          std::to_string(params.max_nodes_per_sweep) + " node moves; elements below the target were left unvisited");
-      }
-      if (moved == 0) {
-        r.stop_reason = "no_move";
-        break;
-      }
-      const bool progress = last_invalid > 0
-                                ? last_invalid - invalid >= std::max(1.0, params.min_fixed_rel * last_invalid)
-                                : worst >= last_worst + params.min_gain;
-      stalled = progress ? 0 : stalled + 1;
-      last_worst = std::max(last_worst, worst), last_invalid = std::min(last_invalid, invalid);
-      if (stalled >= params.patience) {
-        r.stop_reason = "stalled";
-        core::log("optimization stalled: " + std::to_string(stalled) + " sweeps in a row made too little progress (fewer than " +
-                  std::to_string(params.min_fixed_rel * 100) + " % of the invalid elements fixed, or a gain below " +
-                  std::to_string(params.min_gain) + " in the worst scaled Jacobian)");
-        break;
-      }
-    }
-    sweeps_phase.reset();
+    sweep_phase(s, q, samples, x_rows, pool, params, r);
     r.cycles = cycle + 1;
     double cycle_end = 0;
     int cycle_invalid_end = 0;
