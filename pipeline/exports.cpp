@@ -9,34 +9,47 @@
 
 namespace volts::pipeline {
 
-void check_exports(const StageContext& ctx, int degree) { extract::check_exports(ctx.config.extract.exports, degree); }
+void check_exports(const StageContext& ctx, int degree, const std::string& degree_key) {
+  extract::check_exports(ctx.config.extract.exports, degree, degree_key);
+}
+
+std::string vtu_path(const StageContext& ctx) { return ctx.output.empty() ? ctx.path("bezier.vtu") : ctx.output; }
+
+core::Json write_solver_exports(const StageContext& ctx, const extract::Result& r) {
+  const auto& exports = ctx.config.extract.exports;
+  const auto wanted = [&](const char* name) { return std::find(exports.begin(), exports.end(), name) != exports.end(); };
+  const std::filesystem::path stem = std::filesystem::path(vtu_path(ctx)).replace_extension();
+  const auto beside = [&](const char* ext) { return stem.string() + ext; };
+  core::Json files = core::Json::object();
+  if (wanted("bext")) {
+    extract::write_bext(beside(".bext"), r);
+    extract::write_lsdyna_deck(beside(".k"), stem.filename().string() + ".bext");
+    files["bext"] = beside(".bext"), files["k"] = beside(".k");
+  }
+  if (wanted("json")) extract::write_bezier_json(beside(".json"), r), files["json"] = beside(".json");
+  if (wanted("msh")) {
+    const std::size_t nodes = extract::write_gmsh(beside(".msh"), r.hexes);
+    core::log("bezier.msh: " + std::to_string(nodes) + " nodes (shared between neighbouring elements)");
+    files["msh"] = beside(".msh");
+  }
+  if (wanted("png")) {
+    const std::string png = ctx.path("scaled_jacobian_histogram.png");
+    extract::write_histogram_png(png, r.min_scaled_jacobian);
+    files["png"] = png;
+  }
+  return files;
+}
 
 core::Json write_exports(const StageContext& ctx, const extract::Result& r) {
   const auto& exports = ctx.config.extract.exports;
-  const auto wanted = [&](const char* name) { return std::find(exports.begin(), exports.end(), name) != exports.end(); };
-  const std::string out = ctx.output.empty() ? ctx.path("bezier.vtu") : ctx.output;
-  const std::filesystem::path stem = std::filesystem::path(out).replace_extension();
-  const auto beside = [&](const char* ext) { return stem.string() + ext; };
-  core::Json files = core::Json::object();
+  const bool vtu = std::find(exports.begin(), exports.end(), "vtu") != exports.end();
+  const std::string out = vtu_path(ctx);
+  core::Json files;
   {
     core::LogSection s("write");
-    if (wanted("vtu")) extract::write_bezier_vtu(out, r), files["vtu"] = out;
-    if (wanted("bext")) {
-      extract::write_bext(beside(".bext"), r);
-      extract::write_lsdyna_deck(beside(".k"), stem.filename().string() + ".bext");
-      files["bext"] = beside(".bext"), files["k"] = beside(".k");
-    }
-    if (wanted("json")) extract::write_bezier_json(beside(".json"), r), files["json"] = beside(".json");
-    if (wanted("msh")) {
-      const std::size_t nodes = extract::write_gmsh(beside(".msh"), r.hexes);
-      core::log("bezier.msh: " + std::to_string(nodes) + " nodes (shared between neighbouring elements)");
-      files["msh"] = beside(".msh");
-    }
-    if (wanted("png")) {
-      const std::string png = ctx.path("scaled_jacobian_histogram.png");
-      extract::write_histogram_png(png, r.min_scaled_jacobian);
-      files["png"] = png;
-    }
+    if (vtu) extract::write_bezier_vtu(out, r);
+    files = write_solver_exports(ctx, r);
+    if (vtu) files["vtu"] = out;
   }
   core::log(std::to_string(r.hexes.size()) + " Bézier elements of degree " + std::to_string(r.degree) + ", " +
             std::to_string(r.certified_valid) + " certified valid, scaled Jacobian [" + std::to_string(r.min_scaled) + ", " +
@@ -52,9 +65,9 @@ core::Json write_exports(const StageContext& ctx, const extract::Result& r) {
               " boundary faces" + (w.sample.surface_bound < 1 ? ", bounded there by the surface's tangents to " + std::to_string(w.sample.surface_bound) : std::string()) +
               " (report: extract.worst_elements)");
   }
-  if (wanted("vtu")) core::log("open in ParaView: " + out);
+  if (vtu) core::log("open in ParaView: " + out);
   core::Json fig = extract::report_figures(r);
-  if (wanted("vtu")) fig["output"] = out;
+  if (vtu) fig["output"] = out;
   fig["outputs"] = files;
   return fig;
 }

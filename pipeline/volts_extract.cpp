@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
         } catch (const core::Json::exception& e) {
           throw core::InvalidInputError(in + ": malformed tmeshes: " + e.what());
         }
-        pipeline::check_exports(ctx, t[0].degree);  // before any work: a bad list costs nothing
+        pipeline::check_exports(ctx, t[0].degree, "tmesh.degree");  // before any work: a bad list costs nothing
         const extract::Result r = extract::extract(t, mesh, ctx.config.extract);
         const core::Json fig = pipeline::write_exports(ctx, r);
         return fig;

@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
       "DIR/fit.vtu (control nets as hexes with scaled_jacobian and block), and extract.exports (bezier.vtu, ...).",
       [](pipeline::StageContext& ctx) {
         const pipeline::ClassifyInput in = pipeline::read_classify_input(ctx);
-        pipeline::check_exports(ctx, ctx.config.fit.pillow.degree);
+        pipeline::check_exports(ctx, ctx.config.fit.pillow.degree, "fit.degree");
         const fit::Result r = fit::run(in.mesh, in.classification, ctx.config.fit);
         const extract::Result e = extract::extract(r.solids, in.mesh, ctx.config.extract);
         {

@@ -13,12 +13,12 @@
 #include <map>
 #include <sstream>
 #include <string_view>
-#include <unordered_map>
 
 #include "bezier/bernstein.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/stage_file.h"
+#include "extract/point_index.h"
 
 namespace volts::extract {
 
@@ -63,7 +63,7 @@ int degree_of(const std::vector<bezier::BezierHex>& hexes) {
 
 }  // namespace
 
-void check_exports(const std::vector<std::string>& exports, int degree) {
+void check_exports(const std::vector<std::string>& exports, int degree, const std::string& degree_key) {
   const auto& known = export_names();
   for (const auto& e : exports)
     if (std::find(known.begin(), known.end(), e) == known.end()) {
@@ -73,7 +73,7 @@ void check_exports(const std::vector<std::string>& exports, int degree) {
     }
   if (std::find(exports.begin(), exports.end(), "msh") != exports.end() && (degree < 1 || degree > 3))
     throw core::ConfigError("extract.exports: msh is written for degrees 1 to 3 (Gmsh Lagrange hexahedra 5, 12, 92), the spline has degree " +
-                            std::to_string(degree) + ": remove msh from extract.exports or set tmesh.degree to 3 or less");
+                            std::to_string(degree) + ": remove msh from extract.exports or set " + degree_key + " to 3 or less");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -296,17 +296,8 @@ std::size_t write_gmsh(const std::string& path, const std::vector<bezier::Bezier
   Eigen::AlignedBox3d box;
   for (const auto& h : hexes)
     for (const auto& x : h.points) box.extend(x);
-  const double diagonal = box.diagonal().norm();
-  const double tol = std::max(point_tolerance(box, 1e-12), std::numeric_limits<double>::min());
-  // Merge on a grid of cells much larger than tol: a match is in the same or a neighbouring cell.
-  const double cell = std::max(1e-6 * diagonal, 1e3 * tol);
-  struct KeyHash {
-    std::size_t operator()(const std::array<long long, 3>& k) const {
-      return std::hash<long long>()(k[0] * 73856093LL ^ k[1] * 19349663LL ^ k[2] * 83492791LL);
-    }
-  };
-  std::unordered_map<std::array<long long, 3>, std::vector<int>, KeyHash> grid;
-  std::vector<Eigen::Vector3d> nodes;
+  // Nodes closer than the tolerance are one: neighbouring elements share theirs.
+  PointIndex index(box, std::max(point_tolerance(box, 1e-12), std::numeric_limits<double>::min()));
   std::vector<std::vector<int>> connectivity(hexes.size());
   // Bernstein values at the lattice's abscissae i / p, tabulated once (polynomial elements: the
   // weights are all 1, checked above).
@@ -323,27 +314,9 @@ std::size_t write_gmsh(const std::string& path, const std::vector<bezier::Bezier
           if (vw == 0) continue;
           for (int a = 0; a < n1; ++a) x += (bu[a] * vw) * hexes[e].points[static_cast<std::size_t>(a + n1 * (b + n1 * c))];
         }
-      std::array<long long, 3> key{};
-      for (int d = 0; d < 3; ++d) key[d] = static_cast<long long>(std::floor((x[d] - box.min()[d]) / cell));
-      int found = -1;
-      for (int dx = -1; dx <= 1 && found < 0; ++dx)
-        for (int dy = -1; dy <= 1 && found < 0; ++dy)
-          for (int dz = -1; dz <= 1 && found < 0; ++dz) {
-            auto it = grid.find({key[0] + dx, key[1] + dy, key[2] + dz});
-            if (it == grid.end()) continue;
-            for (const int n : it->second)
-              if ((nodes[n] - x).norm() <= tol) {
-                found = n;
-                break;
-              }
-          }
-      if (found < 0) {
-        found = static_cast<int>(nodes.size());
-        nodes.push_back(x);
-        grid[key].push_back(found);
-      }
-      connectivity[e].push_back(found + 1);  // Gmsh tags are 1-based
+      connectivity[e].push_back(index.find_or_add(x) + 1);  // Gmsh tags are 1-based
     }
+  const std::vector<Eigen::Vector3d>& nodes = index.points();
   write_stream(path, [&](std::ostream& out) {
     char buf[256];  // six %.17g fields: up to 6 * 25 characters
     out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";

@@ -15,8 +15,9 @@
 namespace volts::extract {
 
 /// Throws core::ConfigError naming extract.exports for an unknown name, or for msh with a degree
-/// Gmsh has no table here for (1..3 are written). Call before writing anything.
-void check_exports(const std::vector<std::string>& exports, int degree);
+/// Gmsh has no table here for (1..3 are written; the message names `degree_key`, the config key
+/// that set the degree). Call before writing anything.
+void check_exports(const std::vector<std::string>& exports, int degree, const std::string& degree_key = "tmesh.degree");
 
 /// bezier.bext: BEXT 2.0 (as libMesh's DynaIO reads it): one patch, the global functions as
 /// nodes x y z w, the elements in blocks of equal function count, each with its ascending 1-based

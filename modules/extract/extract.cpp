@@ -13,6 +13,7 @@
 #include "core/errors.h"
 #include "core/log.h"
 #include "core/parallel.h"
+#include "extract/point_index.h"
 #include "quality/quality.h"
 
 namespace volts::extract {
@@ -378,6 +379,54 @@ void write_bezier_vtu(const std::string& path, const Result& r) {
                                           {"status", 1, std::vector<double>(r.status.begin(), r.status.end())},
                                           {"certified_min_detj", 1, r.certified_min_detj}};
   bezier::write_bezier_vtu(path, r.hexes, cells);
+}
+
+GlobalBasis bezier_basis(const std::vector<bezier::BezierHex>& hexes, bool keep_operators) {
+  Eigen::AlignedBox3d box;
+  for (const auto& h : hexes) {
+    bezier::check(h);
+    for (const auto& x : h.points) box.extend(x);
+  }
+  PointIndex index(box, std::max(point_tolerance(box, 1e-12), std::numeric_limits<double>::min()));
+  GlobalBasis g;
+  if (keep_operators) g.elements.resize(hexes.size());
+  for (std::size_t e = 0; e < hexes.size(); ++e) {
+    const bezier::BezierHex& h = hexes[e];
+    const int nb = h.num_points();
+    std::vector<int> local(static_cast<std::size_t>(nb));
+    for (int l = 0; l < nb; ++l) {
+      const int f = index.find_or_add(h.points[static_cast<std::size_t>(l)]);
+      if (f == static_cast<int>(g.weights.size())) {
+        g.weights.push_back(h.weight(l));
+      } else if (std::abs(g.weights[static_cast<std::size_t>(f)] - h.weight(l)) > 1e-12 * g.weights[static_cast<std::size_t>(f)]) {
+        throw core::InvalidInputError("extract: element " + std::to_string(e) + " shares a control point with another element but not its weight (" +
+                                      std::to_string(h.weight(l)) + " against " + std::to_string(g.weights[static_cast<std::size_t>(f)]) +
+                                      "): the elements are not C0 there");
+      }
+      local[static_cast<std::size_t>(l)] = f;
+    }
+    std::vector<int> sorted = local;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+      throw core::InvalidInputError("extract: element " + std::to_string(e) + " has two control points closer than the tolerance (a degenerate element)");
+    if (!keep_operators) continue;
+    ExtractionElement& el = g.elements[e];
+    el.functions = sorted;
+    // Row r (function sorted[r]) has its one 1 in the column of its Bernstein function.
+    std::vector<int> column(static_cast<std::size_t>(nb));
+    for (int l = 0; l < nb; ++l)
+      column[static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), local[static_cast<std::size_t>(l)]) - sorted.begin())] = l;
+    el.op.resize(nb, nb);
+    el.op.reserve(nb);
+    for (int r = 0; r < nb; ++r) {
+      el.op.startVec(r);
+      el.op.insertBack(r, column[static_cast<std::size_t>(r)]) = 1.0;
+    }
+    el.op.finalize();
+  }
+  g.points = index.points();
+  g.partition_of_unity_error = 0.0;  // one 1 per column
+  return g;
 }
 
 }  // namespace volts::extract

@@ -100,6 +100,16 @@ double point_tolerance(const Eigen::AlignedBox3d& box, double rel);
 /// read by the bext and json exports, and allocating them was a third of extract's time.
 GlobalBasis global_basis(const std::vector<tmesh::TMesh>& t, const std::vector<bezier::BezierHex>& hexes, bool keep_operators = true);
 
+/// The global basis of Bézier elements that meet face to face with equal control points there
+/// (the tet route's hexes; any C0 mesh of Bézier hexes): one function per distinct control point
+/// (points closer than point_tolerance(bbox, 1e-12) are one), each element's extraction operator
+/// the identity on its Bernstein functions, so the partition of unity holds exactly and Cᵀ·P is
+/// the hex's points to the tolerance. Functions are numbered in order of first appearance. Throws
+/// core::InvalidInputError naming the element if two of its own control points are one function
+/// (a degenerate element) or a shared point has two different weights (not C0 there). With
+/// keep_operators false `elements` is left empty, as in global_basis.
+GlobalBasis bezier_basis(const std::vector<bezier::BezierHex>& hexes, bool keep_operators = true);
+
 /// Extracts the Bézier elements of the splines of the cubes `t` (all of one degree) and measures them
 /// against the input `surface`; boundary deviation is sampled on the cube faces marked boundary.
 /// The extraction operators are kept (Result::basis.elements) only if params.exports has bext or json.

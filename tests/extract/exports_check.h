@@ -3,6 +3,7 @@
 // user's script relies on after `volts run` (issue 8's end-to-end check). With `gmsh_check`, Gmsh's
 // own `gmsh bezier.msh -check` too when gmsh is installed (scripts/install-deps.sh installs it);
 // it is slow on large files (43 s on the torus's 87,648 nodes), bench_pipeline runs it per model.
+// `stage`: the report section with the figures (extract; tet2hex for the tet route).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -26,8 +27,8 @@
 
 namespace volts::test {
 
-inline void expect_every_export_parses(const std::filesystem::path& work, bool gmsh_check = true) {
-  const core::Json x = core::read_report(work.string())["stages"]["extract"];
+inline void expect_every_export_parses(const std::filesystem::path& work, bool gmsh_check = true, const std::string& stage = "extract") {
+  const core::Json x = core::read_report(work.string())["stages"][stage];
   const long elements = x["bezier_elements"].get<long>(), functions = x["global_functions"].get<long>();
   ASSERT_GT(elements, 0);
   for (const char* k : {"vtu", "bext", "k", "json", "msh", "png"}) EXPECT_TRUE(x["outputs"].contains(k)) << k;

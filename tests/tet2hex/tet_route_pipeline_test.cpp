@@ -7,6 +7,7 @@
 
 #include "common/test_util.h"
 #include "core/stage_file.h"
+#include "extract/exports_check.h"
 
 namespace fs = std::filesystem;
 using namespace volts;
@@ -40,6 +41,27 @@ TEST(TetRoutePipeline, VoltsRunOnATetrahedron) {
   fs::remove_all(dir);
 }
 
+// The route writes every solver export of extract.exports (global functions: the hexes' distinct
+// control points), and each parses with the report's counts.
+TEST(TetRoutePipeline, EveryExportParses) {
+  const fs::path dir = test::fresh_dir("tetroute", "exports");
+  test::write_text(dir / "run.yaml", "route: tet\ninput: {generate: tetrahedron, resolution: 4}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (dir / "run.yaml").string() + " --workdir " + (dir / "work").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  test::expect_every_export_parses(dir / "work", /*gmsh_check=*/true, "tet2hex");
+  const auto s = core::read_report((dir / "work").string())["stages"]["tet2hex"];
+  EXPECT_EQ(s["partition_of_unity_error"].get<double>(), 0.0);
+  // Neighbouring hexes share their face's functions: far fewer than 64 per hex.
+  EXPECT_LT(s["global_functions"].get<long>(), 40 * s["bezier_elements"].get<long>());
+  // extract.exports chooses the files here too.
+  test::write_text(dir / "vtu.yaml", "route: tet\ninput: {generate: tetrahedron, resolution: 4}\nextract: {exports: [vtu]}\n");
+  ASSERT_EQ(test::run(test::bin("volts") + " run " + (dir / "vtu.yaml").string() + " --workdir " + (dir / "lean").string()).code, 0);
+  EXPECT_TRUE(fs::exists(dir / "lean" / "bezier.vtu"));
+  EXPECT_FALSE(fs::exists(dir / "lean" / "bezier.bext"));
+  EXPECT_FALSE(fs::exists(dir / "lean" / "bezier.msh"));
+  fs::remove_all(dir);
+}
+
 TEST(TetRoutePipeline, BadInputNamesTheFileAndWritesNothing) {
   const fs::path dir = test::fresh_dir("tetroute", "bad");
   test::write_text(dir / "open.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
@@ -56,6 +78,13 @@ TEST(TetRoutePipeline, BadInputNamesTheFileAndWritesNothing) {
   const test::Outcome c = test::run(test::bin("volts-tet2hex") + " --config " + (dir / "cfg.yaml").string() + " --workdir " + (dir / "work").string());
   EXPECT_EQ(c.code, 3) << c.output;
   EXPECT_NE(c.output.find("tet2hex.degree"), std::string::npos) << c.output;
+  // Degree 4 with Gmsh's file asked for (the default list): refused before any work, naming both keys.
+  test::write_text(dir / "d4.yaml", "route: tet\ninput: {generate: tetrahedron, resolution: 4}\ntet2hex: {degree: 4}\n");
+  const test::Outcome d4 = test::run(test::bin("volts-tet2hex") + " --config " + (dir / "d4.yaml").string() + " --workdir " + (dir / "work").string());
+  EXPECT_EQ(d4.code, 3) << d4.output;
+  EXPECT_NE(d4.output.find("extract.exports"), std::string::npos) << d4.output;
+  EXPECT_NE(d4.output.find("tet2hex.degree"), std::string::npos) << d4.output;
+  EXPECT_FALSE(fs::exists(dir / "work" / "bezier.vtu"));
   fs::remove_all(dir);
 }
 
