@@ -70,7 +70,12 @@ const std::vector<Model>& all_models() {
       {"tube", "", "vhacd_tube1.off", 24, nullptr},
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},
-      {"assembly", "assembly", "", 24, &kAssembly},
+      // Issue 8 sets no worst-SJ target for the assembly; the paper's 0.27 is the one to beat
+      // (issue 7: "volts must do better on the same kind of models").
+      {"assembly", "assembly", "", 24, &kAssembly, 0.27},
+      // The assembly through the tet route while split cannot take genus 5: TetGen tets of a coarser
+      // remesh, four certified Bézier hexes each (not the paper's construction; compare with care).
+      {"assembly-tet", "assembly", "", 24, &kAssembly, 0.27, "route: tet\ntet2hex: {remesh_edge_rel: 0.03}"},
       // Generated rings of rectilinear profiles (volts-make-model): a plus (profile ring) and an L (square ring).
       {"washer", "washer", "", 48, nullptr},
       {"flanged-ring", "flanged-ring", "", 48, nullptr},
@@ -203,8 +208,9 @@ Result run_model(const Model& m, const fs::path& models_dir, const fs::path& wor
     r.error = std::string("report.json: ") + e.what();
   }
   if (rc != 0) {
+    if (m.config.find("route: tet") != std::string::npos) r.failed_stage = "tet2hex";
     for (const char* s : kStages)
-      if (!r.report.contains(s)) {
+      if (r.failed_stage.empty() && !r.report.contains(s)) {
         r.failed_stage = s;
         break;
       }
@@ -224,7 +230,8 @@ Result run_model(const Model& m, const fs::path& models_dir, const fs::path& wor
   if (rc == 0 && all_exports && std::system("gmsh --version > /dev/null 2>&1") == 0) {
     const int g = run_with_timeout({"gmsh", (dir / "bezier.msh").string(), "-check"}, dir / "gmsh_check.txt", dir / "gmsh_check.err.txt", timeout_s);
     const std::string out = read_text(dir / "gmsh_check.txt") + read_text(dir / "gmsh_check.err.txt");
-    const auto elements = r.report.contains("extract") ? r.report["extract"].value("bezier_elements", -1L) : -1L;
+    const char* stage = r.report.contains("tet2hex") ? "tet2hex" : "extract";
+    const auto elements = r.report.contains(stage) ? r.report[stage].value("bezier_elements", -1L) : -1L;
     r.gmsh_ok = g == 0 && out.find("rror") == std::string::npos && out.find(std::to_string(elements) + " elements") != std::string::npos;
     r.gmsh_note = g < 0 ? "timeout" : *r.gmsh_ok ? "ok" : "failed (see gmsh_check.txt)";
   }
@@ -237,6 +244,8 @@ Result run_model(const Model& m, const fs::path& models_dir, const fs::path& wor
 // Figures and targets
 
 std::optional<double> figure(const Result& r, const char* stage, const char* key) {
+  // The tet route's one stage reports extract's figures under "tet2hex" (its time is its own).
+  if (std::string(stage) == "extract" && std::string(key) != "time_s" && r.report.contains("tet2hex")) stage = "tet2hex";
   if (!r.report.contains(stage)) return std::nullopt;
   const Json& s = r.report[stage];
   if (!s.contains(key) || !s[key].is_number()) return std::nullopt;
@@ -248,6 +257,7 @@ std::optional<double> report_total(const Result& r) {
   bool any = false;
   for (const char* s : kStages)
     if (auto v = figure(r, s, "time_s")) t += *v, any = true;
+  if (auto v = figure(r, "tet2hex", "time_s")) t += *v, any = true;
   return any ? std::optional<double>(t) : std::nullopt;
 }
 

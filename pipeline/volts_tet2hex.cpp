@@ -84,11 +84,13 @@ int main(int argc, char** argv) {
         {
           core::LogSection s("write");
           if (wanted("vtu")) tet2hex::write_bezier_vtu(out, r), files["vtu"] = out;
-          const extract::Result e = as_extract_result(r, wanted("bext") || wanted("json"));
-          fig["global_functions"] = e.basis.points.size();
-          fig["partition_of_unity_error"] = e.basis.partition_of_unity_error;
-          core::log(std::to_string(e.basis.points.size()) + " global functions (the hexes' distinct control points)");
-          files.update(pipeline::write_solver_exports(ctx, e));
+          if (wanted("bext") || wanted("json") || wanted("msh") || wanted("png")) {
+            const extract::Result e = as_extract_result(r, wanted("bext") || wanted("json"));
+            fig["global_functions"] = e.basis.points.size();
+            fig["partition_of_unity_error"] = e.basis.partition_of_unity_error;
+            core::log(std::to_string(e.basis.points.size()) + " global functions (the hexes' distinct control points)");
+            files.update(pipeline::write_solver_exports(ctx, e));
+          }
         }
         if (wanted("vtu")) {
           core::log("open in ParaView: " + out);

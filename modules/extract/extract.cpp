@@ -388,6 +388,8 @@ GlobalBasis bezier_basis(const std::vector<bezier::BezierHex>& hexes, bool keep_
     for (const auto& x : h.points) box.extend(x);
   }
   PointIndex index(box, std::max(point_tolerance(box, 1e-12), std::numeric_limits<double>::min()));
+  // About half of the points are shared (cubic tet-route hexes: 0.49 distinct per point).
+  index.reserve(hexes.empty() ? 0 : hexes.size() * hexes[0].points.size() / 2);
   GlobalBasis g;
   if (keep_operators) g.elements.resize(hexes.size());
   for (std::size_t e = 0; e < hexes.size(); ++e) {

@@ -23,13 +23,21 @@ std::array<long long, 3> PointIndex::key(const Eigen::Vector3d& x) const {
 }
 
 int PointIndex::find(const Eigen::Vector3d& x) const {
-  const auto k = key(x);
-  for (long long dx = -1; dx <= 1; ++dx)
-    for (long long dy = -1; dy <= 1; ++dy)
-      for (long long dz = -1; dz <= 1; ++dz) {
-        const auto it = grid_.find({k[0] + dx, k[1] + dy, k[2] + dz});
+  // The cells within tol of x: its own, and a neighbour only along an axis where x is within tol
+  // of the cell's side (cells are >= 1000 tol wide: almost always one cell to look in).
+  std::array<std::array<long long, 2>, 3> range{};
+  for (int d = 0; d < 3; ++d) {
+    const double f = (x[d] - origin_[d]) / cell_;
+    const long long k = static_cast<long long>(std::floor(f));
+    const double in = (f - static_cast<double>(k)) * cell_;
+    range[static_cast<std::size_t>(d)] = {in <= tol_ ? k - 1 : k, cell_ - in <= tol_ ? k + 1 : k};
+  }
+  for (long long i = range[0][0]; i <= range[0][1]; ++i)
+    for (long long j = range[1][0]; j <= range[1][1]; ++j)
+      for (long long l = range[2][0]; l <= range[2][1]; ++l) {
+        const auto it = grid_.find({i, j, l});
         if (it == grid_.end()) continue;
-        for (const int n : it->second)
+        for (int n = it->second; n >= 0; n = next_[static_cast<std::size_t>(n)])
           if ((points_[static_cast<std::size_t>(n)] - x).norm() <= tol_) return n;
       }
   return -1;
@@ -40,8 +48,16 @@ int PointIndex::find_or_add(const Eigen::Vector3d& x) {
   if (found >= 0) return found;
   const int n = static_cast<int>(points_.size());
   points_.push_back(x);
-  grid_[key(x)].push_back(n);
+  const auto [it, fresh] = grid_.try_emplace(key(x), n);
+  next_.push_back(fresh ? -1 : it->second);
+  it->second = n;
   return n;
+}
+
+void PointIndex::reserve(std::size_t n) {
+  points_.reserve(n);
+  next_.reserve(n);
+  grid_.reserve(n);
 }
 
 }  // namespace volts::extract
