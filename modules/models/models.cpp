@@ -593,23 +593,45 @@ Mesh make_plate() {
   return soup.to_mesh("plate of model 'assembly'");
 }
 
+/// The assembly's plate minus its four holes: prisms of `sides` sides and segments of about h.
+Mesh plate_minus_holes(int sides, double h, const std::string& name) {
+  Mesh result = make_plate();
+  const int segments = std::max(1, rounded(2 * kPlateHalf[2] / h));
+  for (const double sx : {-1.0, 1.0})
+    for (const double sy : {-1.0, 1.0}) {
+      Mesh prism = make_prism({sx * kPlateHoleCentre[0], sy * kPlateHoleCentre[1]}, kPlateHoleRadius, sides, segments,
+                              kPlateHalf[2], "hole of model '" + name + "'");
+      result = boolean(result, prism, BooleanOp::kDifference, name, "difference of plate and hole");
+    }
+  return result;
+}
+
+/// The number of sides of a prism of about the segment length h around a circle of `length`: a
+/// multiple of 4 (the plate's axis lines meet its rim at corners).
+int sides_of_4(double length, double h) { return 4 * std::max(1, rounded(length / h / 4)); }
+
+/// The assembly's base alone (genus 4): the plate minus the assembly's four holes, remeshed to the
+/// segment length 2 / resolution with the plate's edges and the rims kept.
+Mesh make_plate_with_holes(const ModelParams& p) {
+  const std::string name = "plate";
+  const double h = 2.0 / p.resolution;
+  Mesh result = plate_minus_holes(sides_of_4(2 * kPi * kPlateHoleRadius, h), h, name);
+  split_box_edges(result, kPlateHalf, [&](double length) { return odd_segments(length, h); });
+  // Parts: the plate's six planes and the holes' walls (-1, vertical prisms).
+  remesh_keeping_creases(result, h, [&](Mesh::Face_index f) { return box_plane_of(result, f, kPlateHalf); }, true);
+  make_planes_delaunay(result, kPlateHalf);
+  return canonical(result, "model '" + name + "'");
+}
+
 /// Liu et al. 2013, Fig. 1: the plate minus four prisms (the holes) union a torus standing on the plate
 /// (the ring), by corefinement, then remeshed to the segment length 2 / resolution with the plate's edges,
 /// the rims, the holes' prism creases and the ring's foot kept.
 Mesh make_assembly(const ModelParams& p) {
   const std::string name = "assembly";
   const double h = 2.0 / p.resolution;
-  const auto multiple_of_4 = [&](double length) { return 4 * std::max(1, rounded(length / h / 4)); };
+  const auto multiple_of_4 = [&](double length) { return sides_of_4(length, h); };
 
-  Mesh result = make_plate();
-  const int sides = multiple_of_4(2 * kPi * kPlateHoleRadius);
-  const int segments = std::max(1, rounded(2 * kPlateHalf[2] / h));
-  for (const double sx : {-1.0, 1.0})
-    for (const double sy : {-1.0, 1.0}) {
-      Mesh prism = make_prism({sx * kPlateHoleCentre[0], sy * kPlateHoleCentre[1]}, kPlateHoleRadius, sides, segments,
-                              kPlateHalf[2], "hole of model 'assembly'");
-      result = boolean(result, prism, BooleanOp::kDifference, name, "difference of plate and hole");
-    }
+  Mesh result = plate_minus_holes(multiple_of_4(2 * kPi * kPlateHoleRadius), h, name);
 
   // The ring: a torus about the y axis through (0, 0, kRingCentreZ), segments of about h.
   Soup ring_soup;
@@ -656,6 +678,10 @@ const std::vector<Model>& models() {
       {"tetrahedron", "regular tetrahedron with corners (1,1,1),(1,-1,-1),(-1,1,-1),(-1,-1,1) (genus 0)",
        make_tetrahedron},
       {"cone", "cone about z, base radius 1 at z=-0.5, apex at z=1 (genus 0, sharp rim and apex)", make_cone},
+      {"plate",
+       "plate [-2,2]x[-1.5,1.5]x[-0.25,0.25] with four through holes of radius 0.3 along z at (+-1.5, +-1) "
+       "(genus 4; the base of Liu et al. 2013, Fig. 1)",
+       make_plate_with_holes},
       {"assembly",
        "plate [-2,2]x[-1.5,1.5]x[-0.25,0.25] with four through holes of radius 0.3 and a ring (radii 0.8, 0.3) "
        "standing on it (genus 5; Liu et al. 2013, Fig. 1)",

@@ -12,6 +12,9 @@
 //   sphere         radius 1 (a cube grid projected onto the sphere).
 //   tetrahedron    regular, corners (1,1,1), (1,-1,-1), (-1,1,-1), (-1,-1,1); each face a triangle grid.
 //   cone           axis z, base radius 1 at z = -0.5, apex at z = 1.
+//   plate          the assembly's base alone: plate [-2,2] x [-1.5,1.5] x [-0.25,0.25] minus four through
+//                  holes along z of radius 0.3 centred at (+-1.5, +-1). Genus 4. Holes as the assembly's
+//                  (their vertical edges are sharp below resolution 16: 45 degrees at 8).
 //   assembly       Liu et al. 2013, Fig. 1: plate [-2,2] x [-1.5,1.5] x [-0.25,0.25] minus four through holes
 //                  along z of radius 0.3 centred at (+-1.5, +-1), union a ring: the torus about the y axis
 //                  through (0, 0, 0.95), major radius 0.8, minor 0.3 (x in [-1.1,1.1], top at z = 2.05; its
@@ -53,7 +56,7 @@ struct ModelParams {
   /// Segments along the longest edge (box, bulged-box, cube-with-hole, tetrahedron) or around the
   /// smallest circle (torus, cone; sphere: rounded to a multiple of 4); in [4, 512]. The box's shorter
   /// edges get 0.75 and 0.5 times as many, so all segments are equal when it is a multiple of 4.
-  /// assembly: segment length 2 / resolution, as cube-with-hole's (the plate's long edge gets 2 x
+  /// plate, assembly: segment length 2 / resolution, as cube-with-hole's (the plate's long edge gets 2 x
   /// resolution segments, each hole about 0.94 x resolution sides, as many around the ring's tube).
   /// washer, flanged-ring: n segments around the axis (its smallest circle is the inner rim), n the multiple
   /// of 4 at least resolution and 16, and enough that the outer rim's segment is at most 2.7 times the
@@ -65,7 +68,7 @@ struct ModelParams {
 };
 
 /// Names of all models, in a fixed order: box, bulged-box, torus, cube-with-hole, sphere, tetrahedron, cone,
-/// assembly, washer, flanged-ring.
+/// plate, assembly, washer, flanged-ring.
 std::vector<std::string> model_names();
 
 /// One line describing the model (for --help). Throws core::ConfigError for an unknown name.
@@ -73,8 +76,8 @@ std::string model_description(const std::string& name);
 
 /// Builds the model. The same parameters always give the same mesh, vertex for vertex.
 /// Throws core::ConfigError for an unknown name ("unknown model 'x'; known: box, bulged-box, ...") or a
-/// resolution or bulge out of range; core::NumericalError if a Boolean operation of cube-with-hole or
-/// assembly fails.
+/// resolution or bulge out of range; core::NumericalError if a Boolean operation of cube-with-hole, plate
+/// or assembly fails.
 surface::Mesh make_model(const ModelParams& params);
 
 }  // namespace volts::models
