@@ -180,84 +180,169 @@ std::array<Vec3, 8> frustum(int normal, const Face& outer, const Face& inner, bo
 
 }  // namespace
 
-std::vector<Block> difference_blocks(int axis, const Vec3& hole_lo, const Vec3& hole_hi, int elements, int layers) {
+namespace {
+
+// A grid line across the section: its position, its core line (moved by the pillow's thickness
+// toward the solid: +1 for the side 0 and hi walls, -1 for the side 1 and lo walls) and a hole
+// whose wall it is (-1: a side of the cube), for messages.
+struct GridLine {
+  double at;
+  int toward;
+  int hole;
+};
+
+std::string hole_name(int h) { return h < 0 ? std::string("the cube's side") : "hole " + std::to_string(h); }
+
+std::string pair_name(int g, int h) {
+  if (g >= 0 && h >= 0 && g != h) return "holes " + std::to_string(std::min(g, h)) + " and " + std::to_string(std::max(g, h));
+  return hole_name(std::max(g, h)) + " and " + hole_name(std::min(g, h));
+}
+
+}  // namespace
+
+std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3, 2>>& holes, int elements, int layers) {
   if (layers < 0) throw core::ConfigError("tmesh.pillow_layers must be >= 0, got " + std::to_string(layers));
   if (elements < 1) throw core::ConfigError("tmesh: a cube needs at least one element per direction");
-  if (axis < 0 || axis > 2) throw core::TopologyError("tmesh: the hole's axis must be 0, 1 or 2");
-  // Local frame: x, y across the hole, z along it; cube axis of local d is (axis + 1 + d) % 3 (a
+  if (axis < 0 || axis > 2) throw core::TopologyError("tmesh: the holes' axis must be 0, 1 or 2");
+  if (holes.empty()) throw core::TopologyError("tmesh: a difference needs at least one hole");
+  // Local frame: x, y across the holes, z along them; cube axis of local d is (axis + 1 + d) % 3 (a
   // cyclic permutation keeps the orientation).
   auto cube_axis = [axis](int d) { return (axis + 1 + d) % 3; };
-  std::array<double, 4> X{0, hole_lo[cube_axis(0)], hole_hi[cube_axis(0)], 1}, Y{0, hole_lo[cube_axis(1)], hole_hi[cube_axis(1)], 1};
-  if (hole_lo[axis] != 0 || hole_hi[axis] != 1 || !(X[0] < X[1] && X[1] < X[2] && X[2] < X[3]) || !(Y[0] < Y[1] && Y[1] < Y[2] && Y[2] < Y[3]))
-    throw core::TopologyError("tmesh: the hole is not a box through the cube along axis " + std::to_string(axis));
-  const double h = 1.0 / (elements + 2 * layers), t = layers * h;
-  // Core lines: the solid's faces moved inward by t (outer faces in, hole walls out).
-  const std::array<double, 4> Xc{t, X[1] - t, X[2] + t, 1 - t}, Yc{t, Y[1] - t, Y[2] + t, 1 - t};
-  for (int i = 0; i < 3; ++i)
-    if (!(Xc[i] < Xc[i + 1]) || !(Yc[i] < Yc[i + 1]))
-      throw core::TopologyError("tmesh: the hole lies too close to the cube's side for a pillow of " + std::to_string(layers) +
-                                " layer(s) of 1/" + std::to_string(elements + 2 * layers) + " (lower tmesh.pillow_layers or raise tmesh.level)");
-  const std::array<double, 4>& XL = layers ? Xc : X;  // lines the columns' element counts follow
-  const std::array<double, 4>& YL = layers ? Yc : Y;
-  std::array<int, 3> nx{}, ny{};
-  for (int i = 0; i < 3; ++i) {
-    nx[static_cast<std::size_t>(i)] = std::max(1, static_cast<int>(std::lround((XL[i + 1] - XL[i]) / h)));
-    ny[static_cast<std::size_t>(i)] = std::max(1, static_cast<int>(std::lround((YL[i + 1] - YL[i]) / h)));
+  const int k = static_cast<int>(holes.size());
+  auto lo = [&](int i, int d) { return holes[static_cast<std::size_t>(i)][0][static_cast<std::size_t>(cube_axis(d))]; };
+  auto hi = [&](int i, int d) { return holes[static_cast<std::size_t>(i)][1][static_cast<std::size_t>(cube_axis(d))]; };
+  for (int i = 0; i < k; ++i) {
+    const std::array<Vec3, 2>& b = holes[static_cast<std::size_t>(i)];
+    const auto a = static_cast<std::size_t>(axis);
+    if (b[0][a] != 0 || b[1][a] != 1 || !(0 < lo(i, 0) && lo(i, 0) < hi(i, 0) && hi(i, 0) < 1) || !(0 < lo(i, 1) && lo(i, 1) < hi(i, 1) && hi(i, 1) < 1))
+      throw core::TopologyError("tmesh: " + hole_name(i) + " is not a box through the cube along axis " + std::to_string(axis) +
+                                " strictly inside it across");
   }
+  // Closed boxes: holes that share even a corner leave the solid non-manifold there.
+  for (int i = 0; i < k; ++i)
+    for (int j = i + 1; j < k; ++j)
+      if (lo(i, 0) <= hi(j, 0) && lo(j, 0) <= hi(i, 0) && lo(i, 1) <= hi(j, 1) && lo(j, 1) <= hi(i, 1))
+        throw core::TopologyError("tmesh: holes " + std::to_string(i) + " and " + std::to_string(j) + " overlap or touch");
+  const double h = 1.0 / (elements + 2 * layers), t = layers * h;
+  // Grid lines along each local cross axis, with the core lines (as the one-hole construction: t,
+  // lo - t, hi + t, 1 - t; the core is the solid shrunk by t only while they keep the grid lines'
+  // order) and the element counts of their intervals.
+  std::array<std::vector<double>, 2> G, C;  // grid and core lines
+  std::array<std::vector<int>, 2> n;
+  std::vector<std::array<std::array<std::size_t, 2>, 2>> wall(holes.size());  // wall[i][d][side]: the wall's line in G[d]
+  for (int d = 0; d < 2; ++d) {
+    std::vector<GridLine> lines{{0.0, 1, -1}, {1.0, -1, -1}};
+    for (int i = 0; i < k; ++i) lines.push_back({lo(i, d), -1, i}), lines.push_back({hi(i, d), 1, i});
+    std::sort(lines.begin(), lines.end(), [](const GridLine& a, const GridLine& b) { return a.at < b.at || (a.at == b.at && a.hole < b.hole); });
+    std::vector<GridLine> unique;
+    for (const GridLine& l : lines) {
+      if (unique.empty() || unique.back().at != l.at) {
+        unique.push_back(l);
+      } else if (unique.back().toward != l.toward) {
+        throw core::TopologyError("tmesh: holes " + std::to_string(unique.back().hole) + " and " + std::to_string(l.hole) +
+                                  " meet along a line: the lo wall of one is the hi wall of the other at " + std::to_string(l.at) +
+                                  " along cube axis " + std::to_string(cube_axis(d)));
+      }
+    }
+    auto& g = G[static_cast<std::size_t>(d)];
+    auto& c = C[static_cast<std::size_t>(d)];
+    for (const GridLine& l : unique) g.push_back(l.at), c.push_back(l.toward > 0 ? l.at + t : l.at - t);
+    for (std::size_t i = 0; i + 1 < c.size(); ++i)
+      if (!(c[i] < c[i + 1]))
+        throw core::TopologyError("tmesh: " + pair_name(unique[i].hole, unique[i + 1].hole) + " lie too close together along cube axis " +
+                                  std::to_string(cube_axis(d)) + " for a pillow of " + std::to_string(layers) + " layer(s) of 1/" +
+                                  std::to_string(elements + 2 * layers) + " (lower tmesh.pillow_layers or raise tmesh.level)");
+    const std::vector<double>& L = layers ? c : g;  // lines the columns' element counts follow
+    for (std::size_t i = 0; i + 1 < L.size(); ++i)
+      n[static_cast<std::size_t>(d)].push_back(std::max(1, static_cast<int>(std::lround((L[i + 1] - L[i]) / h))));
+    for (int i = 0; i < k; ++i)
+      for (int s = 0; s < 2; ++s) {
+        const double w = s ? hi(i, d) : lo(i, d);
+        wall[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)][static_cast<std::size_t>(s)] =
+            static_cast<std::size_t>(std::lower_bound(g.begin(), g.end(), w) - g.begin());
+      }
+  }
+  const std::vector<double>& X = G[0];
+  const std::vector<double>& Y = G[1];
+  const std::vector<double>& Xc = C[0];
+  const std::vector<double>& Yc = C[1];
+  const std::vector<int>& nx = n[0];
+  const std::vector<int>& ny = n[1];
+  const std::size_t cx = nx.size(), cy = ny.size();
+  // solid[i + cx j]: whether cell (i, j) of the section is outside every hole.
+  std::vector<bool> solid(cx * cy, true);
+  for (const auto& w : wall)
+    for (std::size_t j = w[1][0]; j < w[1][1]; ++j)
+      for (std::size_t i = w[0][0]; i < w[0][1]; ++i) solid[i + cx * j] = false;
+  auto is_solid = [&](std::size_t i, std::size_t j) { return i < cx && j < cy && solid[i + cx * j]; };  // false off the grid (wraps)
+
   std::vector<Block> out;
-  auto add = [&](const std::array<Vec3, 8>& local, std::array<int, 3> n, std::array<int, 6> boundary, bool pillow) {
+  auto add = [&](const std::array<Vec3, 8>& local, std::array<int, 3> count, std::array<int, 6> boundary, bool pillow) {
     Block b;
     for (int i = 0; i < 8; ++i)
       for (int d = 0; d < 3; ++d) b.corners[static_cast<std::size_t>(i)][static_cast<std::size_t>(cube_axis(d))] = local[static_cast<std::size_t>(i)][static_cast<std::size_t>(d)];
-    b.elements = n;
+    b.elements = count;
     b.boundary = boundary;
     b.pillow = pillow;
     out.push_back(b);
   };
+  const std::vector<double>& XL = layers ? Xc : X;
+  const std::vector<double>& YL = layers ? Yc : Y;
   const double z0 = layers ? t : 0, z1 = layers ? 1 - t : 1;
   // Columns (the core's, or the solid's without pillow).
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) {
-      if (i == 1 && j == 1) continue;
-      const Face lo{z0, {XL[i], YL[j], 0}, {}}, hi{z1, {XL[i], YL[j], 0}, {}};
-      Face l = lo, u = hi;
-      l.hi = u.hi = {XL[i + 1], YL[j + 1], 0};
+  for (std::size_t j = 0; j < cy; ++j)
+    for (std::size_t i = 0; i < cx; ++i) {
+      if (!is_solid(i, j)) continue;
+      const Face lo_face{z0, {XL[i], YL[j], 0}, {XL[i + 1], YL[j + 1], 0}}, hi_face{z1, {XL[i], YL[j], 0}, {XL[i + 1], YL[j + 1], 0}};
       std::array<int, 6> boundary{0, 0, 0, 0, 0, 0};
-      if (!layers) boundary = {i == 0 || (i == 2 && j == 1), i == 2 || (i == 0 && j == 1), j == 0 || (j == 2 && i == 1), j == 2 || (j == 0 && i == 1), 1, 1};
-      add(frustum(2, u, l, true), {nx[static_cast<std::size_t>(i)], ny[static_cast<std::size_t>(j)], elements}, boundary, false);
+      if (!layers)  // is_solid is false off the grid: i - 1 wraps past cx
+        boundary = {!is_solid(i - 1, j), !is_solid(i + 1, j), !is_solid(i, j - 1), !is_solid(i, j + 1), 1, 1};
+      add(frustum(2, hi_face, lo_face, true), {nx[i], ny[j], elements}, boundary, false);
     }
   if (!layers) return out;
-  // Under the cube's four sides: three frusta each, between the side and the core's side.
+  // Under the cube's four sides: a frustum per grid interval, between the side and the core's side
+  // (x and y sides interleaved, as the one-hole construction ordered them).
   for (int s = 0; s < 2; ++s)
-    for (int k = 0; k < 3; ++k) {
+    for (std::size_t m = 0; m < std::max(cx, cy); ++m) {
       std::array<int, 6> bx{0, 0, 0, 0, 0, 0}, by{0, 0, 0, 0, 0, 0};
       bx[static_cast<std::size_t>(s)] = 1, by[static_cast<std::size_t>(2 + s)] = 1;
-      add(frustum(0, {double(s), {0, Y[k], 0}, {0, Y[k + 1], 1}}, {Xc[s ? 3 : 0], {0, Yc[k], t}, {0, Yc[k + 1], 1 - t}}, s == 1),
-          {layers, ny[static_cast<std::size_t>(k)], elements}, bx, true);
-      add(frustum(1, {double(s), {X[k], 0, 0}, {X[k + 1], 0, 1}}, {Yc[s ? 3 : 0], {Xc[k], 0, t}, {Xc[k + 1], 0, 1 - t}}, s == 1),
-          {nx[static_cast<std::size_t>(k)], layers, elements}, by, true);
+      if (m < cy)
+        add(frustum(0, {double(s), {0, Y[m], 0}, {0, Y[m + 1], 1}}, {Xc[s ? cx : 0], {0, Yc[m], t}, {0, Yc[m + 1], 1 - t}}, s == 1),
+            {layers, ny[m], elements}, bx, true);
+      if (m < cx)
+        add(frustum(1, {double(s), {X[m], 0, 0}, {X[m + 1], 0, 1}}, {Yc[s ? cy : 0], {Xc[m], 0, t}, {Xc[m + 1], 0, 1 - t}}, s == 1),
+            {nx[m], layers, elements}, by, true);
     }
-  // Under the two holed faces: eight frusta each, between the annulus and the core's.
+  // Under the two holed faces: a frustum per column, between its cell and the core's.
   for (int s = 0; s < 2; ++s)
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i) {
-        if (i == 1 && j == 1) continue;
+    for (std::size_t j = 0; j < cy; ++j)
+      for (std::size_t i = 0; i < cx; ++i) {
+        if (!is_solid(i, j)) continue;
         std::array<int, 6> b{0, 0, 0, 0, 0, 0};
         b[static_cast<std::size_t>(4 + s)] = 1;
         add(frustum(2, {double(s), {X[i], Y[j], 0}, {X[i + 1], Y[j + 1], 0}}, {s ? 1 - t : t, {Xc[i], Yc[j], 0}, {Xc[i + 1], Yc[j + 1], 0}}, s == 1),
-            {nx[static_cast<std::size_t>(i)], ny[static_cast<std::size_t>(j)], layers}, b, true);
+            {nx[i], ny[j], layers}, b, true);
       }
-  // Under the hole's four walls (the circumferential pillow): the solid lies on the wall's far side
-  // from the hole, so the wall at X[1] is the slab's high x face and the one at X[2] its low one.
-  for (int s = 0; s < 2; ++s) {
-    std::array<int, 6> bx{0, 0, 0, 0, 0, 0}, by{0, 0, 0, 0, 0, 0};
-    bx[static_cast<std::size_t>(1 - s)] = 1, by[static_cast<std::size_t>(3 - s)] = 1;
-    add(frustum(0, {X[1 + s], {0, Y[1], 0}, {0, Y[2], 1}}, {Xc[1 + s], {0, Yc[1], t}, {0, Yc[2], 1 - t}}, s == 0),
-        {layers, ny[1], elements}, bx, true);
-    add(frustum(1, {Y[1 + s], {X[1], 0, 0}, {X[2], 0, 1}}, {Yc[1 + s], {Xc[1], 0, t}, {Xc[2], 0, 1 - t}}, s == 0),
-        {nx[1], layers, elements}, by, true);
-  }
+  // Under each hole's walls (the circumferential pillow), a frustum per grid interval: the solid
+  // lies on the wall's far side from the hole, so a lo wall is the slab's high face and a hi wall
+  // its low one.
+  for (const auto& w : wall)
+    for (int s = 0; s < 2; ++s) {
+      std::array<int, 6> bx{0, 0, 0, 0, 0, 0}, by{0, 0, 0, 0, 0, 0};
+      bx[static_cast<std::size_t>(1 - s)] = 1, by[static_cast<std::size_t>(3 - s)] = 1;
+      const std::size_t wx = w[0][static_cast<std::size_t>(s)], wy = w[1][static_cast<std::size_t>(s)];
+      for (std::size_t j = w[1][0]; j < w[1][1]; ++j)
+        add(frustum(0, {X[wx], {0, Y[j], 0}, {0, Y[j + 1], 1}}, {Xc[wx], {0, Yc[j], t}, {0, Yc[j + 1], 1 - t}}, s == 0),
+            {layers, ny[j], elements}, bx, true);
+      for (std::size_t i = w[0][0]; i < w[0][1]; ++i)
+        add(frustum(1, {Y[wy], {X[i], 0, 0}, {X[i + 1], 0, 1}}, {Yc[wy], {Xc[i], 0, t}, {Xc[i + 1], 0, 1 - t}}, s == 0),
+            {nx[i], layers, elements}, by, true);
+    }
   return out;
+}
+
+std::vector<Block> difference_blocks(int axis, const Vec3& hole_lo, const Vec3& hole_hi, int elements, int layers) {
+  return difference_blocks(axis, std::vector<std::array<Vec3, 2>>{{hole_lo, hole_hi}}, elements, layers);
 }
 
 namespace {

@@ -46,17 +46,39 @@ constexpr double kMinCutGap = 1e-6;
 std::vector<Block> cube_blocks(const std::array<int, 6>& boundary, const std::array<int, 3>& elements, int layers,
                                const std::array<std::vector<double>, 3>& cuts);
 
-/// The blocks of a cube minus a through hole (Liu et al. 2013 §4.2 difference, §5.2 pillowing
-/// around "virtual cylinders"): the unit cube minus the box [hole_lo, hole_hi], which spans the cube
-/// along `axis`. Without layers: the eight columns around the hole, cut along the planes of its
-/// walls. With layers: a pillow of `layers` elements under every boundary face, outer and inner
-/// alike — a core (the solid shrunk by the pillow's thickness, eight columns) and frusta between it
-/// and the faces: three under each side of the cube, eight under each holed face, one under each
-/// wall. Every block face is a boundary face or the whole face of exactly one other block, with
-/// the same element counts. `elements` is the count along a cube edge, spread over the columns by
-/// length (at least one each); the pillow's thickness is that of `layers` elements. Throws
-/// core::ConfigError for layers < 0 or elements < 1, core::TopologyError if the hole is not a box
-/// through the cube along `axis` or lies too close to the cube's sides for the pillow.
+/// The blocks of a cube minus k >= 1 parallel through holes (Liu et al. 2013 §4.2 difference, Fig. 1:
+/// a plate with bolt holes; §5.2 pillowing around "virtual cylinders"): the unit cube minus every
+/// box holes[i] = {lo, hi}, each spanning the cube along `axis` (lo[axis] = 0, hi[axis] = 1).
+/// The cross section (the two other axes) is cut into a grid by the lines of all hole walls; grid
+/// cells inside a hole are skipped and every other cell is a column along `axis`. Holes with equal
+/// lo (or hi) coordinates along a cross axis share a grid line; coordinates are compared exactly,
+/// so the caller snaps nearly equal ones (else the grid gets a sliver column between them).
+/// Without layers: the columns, cut along the planes of the walls. With layers: a pillow of
+/// `layers` elements under every boundary face, outer and inner alike — a core (the solid shrunk
+/// by the pillow's thickness: the columns between the grid lines moved by the thickness toward the
+/// solid, i.e. the cube's sides inward and each hole's walls outward) and frusta between the core
+/// and the faces: one per column under each holed face, one per grid interval under each side of
+/// the cube and under each wall. No block has more than one face on the boundary. Every block face
+/// is a boundary face or the whole face of exactly one other block, with the same element counts;
+/// Block::boundary flags exactly the faces on the cube's sides and on the walls. `elements` is the
+/// count along a cube edge: an interval of the grid (of the core's grid with layers) gets its
+/// length in elements of 1 / (elements + 2 layers), rounded, at least one; the pillow's thickness
+/// is that of `layers` elements. A block's parameter axes are the cube axes (axis + 1) % 3,
+/// (axis + 2) % 3, axis (its elements and boundary flags in that order). Order: the columns (cross
+/// axes' cells, first fastest), the frusta under the cube's sides, under the holed faces, under
+/// each hole's walls (hole by hole).
+/// Throws core::ConfigError for layers < 0 or elements < 1; core::TopologyError, naming the holes,
+/// for an axis not in 0..2, no hole, a hole that is not a box through the cube along `axis` strictly
+/// inside it across, holes that overlap or touch, a grid line that is a lo wall of one hole and a hi
+/// wall of another (two holes meeting along a line), and holes that lie too close to each other or
+/// to the cube's sides for the pillow (two grid lines whose core lines would cross: a hi wall or
+/// the side 0, then a lo wall or the side 1, closer than twice the pillow's thickness — also when
+/// the two holes are apart along the other cross axis, since every grid line crosses the section).
+std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3, 2>>& holes, int elements, int layers);
+
+/// The blocks of a cube minus one through hole [hole_lo, hole_hi]: difference_blocks(axis,
+/// {{hole_lo, hole_hi}}, elements, layers) — eight columns; with layers the core's eight columns and
+/// 32 frusta (three under each side of the cube, eight under each holed face, one under each wall).
 std::vector<Block> difference_blocks(int axis, const Vec3& hole_lo, const Vec3& hole_hi, int elements, int layers);
 
 /// The blocks of a ring (torus) whose cross section is a union of grid cells instead of a square

@@ -647,3 +647,189 @@ TEST(RimPillow, LiftsTheFlattenedCornerOfAFlatFace) {
   EXPECT_GE(rimmed, rest);
   EXPECT_EQ(worst({4, 5}, false), rest) << "the rim pillow changes nothing off the rimmed slabs";
 }
+
+// A cube minus several parallel through holes (Liu et al. 2013 Fig. 1: a plate with four bolt
+// holes, a cube with four virtual cylinders and the difference operation).
+namespace {
+
+using Hole = std::array<Vec3, 2>;
+using Across = std::array<double, 4>;  // x0, x1, y0, y1: a hole's extents along cube axes (axis + 1) % 3, (axis + 2) % 3
+
+std::vector<Hole> through(int axis, const std::vector<Across>& across) {
+  const auto u = static_cast<std::size_t>((axis + 1) % 3), v = static_cast<std::size_t>((axis + 2) % 3);
+  std::vector<Hole> out;
+  for (const Across& a : across) {
+    Hole h{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
+    h[0][u] = a[0], h[1][u] = a[1], h[0][v] = a[2], h[1][v] = a[3];
+    out.push_back(h);
+  }
+  return out;
+}
+
+// No gap between a wall and the next wall or side is within 1e-3 of twice a pillow thickness
+// layers / (elements + 2 layers) tried below, so whether the pillow fits is never a rounding question.
+struct HoleFamily {
+  const char* name;
+  std::vector<Across> holes;
+};
+const std::vector<HoleFamily> kHoleFamilies = {
+    {"two side by side", {{0.15, 0.38, 0.3, 0.7}, {0.63, 0.85, 0.3, 0.7}}},
+    {"two diagonal", {{0.15, 0.4, 0.15, 0.4}, {0.55, 0.85, 0.62, 0.85}}},
+    {"two staggered (a wall line of one crosses the other)", {{0.22, 0.5, 0.15, 0.4}, {0.35, 0.83, 0.62, 0.85}}},
+    {"four bolt holes at (+-0.3, +-0.25) around the centre",
+     {{0.14, 0.26, 0.19, 0.31}, {0.74, 0.86, 0.19, 0.31}, {0.14, 0.26, 0.69, 0.81}, {0.74, 0.86, 0.69, 0.81}}},
+    {"three with shared lo and hi lines", {{0.25, 0.45, 0.22, 0.4}, {0.25, 0.6, 0.63, 0.82}, {0.7, 0.83, 0.22, 0.4}}},
+};
+
+// Whether a pillow of thickness t fits: along each cross axis, every hi wall or the side 0 lies more
+// than 2t below every lo wall or the side 1 above it (the core lines, moved t toward the solid, keep
+// their order).
+bool pillow_fits(const std::vector<Across>& holes, double t) {
+  for (std::size_t d = 0; d < 2; ++d) {
+    std::vector<double> up{0.0}, down{1.0};  // lines whose core line moves up (+t), down (-t)
+    for (const Across& a : holes) down.push_back(a[2 * d]), up.push_back(a[2 * d + 1]);
+    for (const double p : up)
+      for (const double m : down)
+        if (p < m && !(m - p > 2 * t)) return false;
+  }
+  return true;
+}
+
+// Whether the quad x lies on the solid's boundary: on a side of the cube, or on a wall of a hole
+// (in the wall's plane, within its extent); never inside a hole.
+bool on_solid_boundary(const std::array<Vec3, 4>& x, int axis, const std::vector<Across>& holes) {
+  auto all = [&](auto pred) { return std::all_of(x.begin(), x.end(), pred); };
+  for (std::size_t d = 0; d < 3; ++d)
+    for (const double s : {0.0, 1.0})
+      if (all([&](const Vec3& p) { return std::abs(p[d] - s) < 1e-12; })) return true;
+  const std::array<std::size_t, 2> c{static_cast<std::size_t>((axis + 1) % 3), static_cast<std::size_t>((axis + 2) % 3)};
+  for (const Across& a : holes)
+    for (std::size_t d = 0; d < 2; ++d)
+      for (std::size_t s = 0; s < 2; ++s) {
+        const double wall = a[2 * d + s], lo = a[2 * (1 - d)], hi = a[2 * (1 - d) + 1];
+        if (all([&](const Vec3& p) { return std::abs(p[c[d]] - wall) < 1e-12 && p[c[1 - d]] > lo - 1e-12 && p[c[1 - d]] < hi + 1e-12; }))
+          return true;
+      }
+  return false;
+}
+
+// Exact volume of a trilinear block (2-point Gauss-Legendre per direction: det J has degree 2 per variable).
+double exact_volume(const std::array<Vec3, 8>& c) {
+  const double g[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
+  double v = 0;
+  for (const double x : g)
+    for (const double y : g)
+      for (const double z : g) v += det(jacobian(c, {x, y, z})) / 8;
+  return v;
+}
+
+// The TopologyError message of f(), or "" if it throws none.
+template <class F>
+std::string topology_error(const F& f) {
+  try {
+    f();
+  } catch (const core::TopologyError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+// Conformity, the boundary flags tiling the cube's surface and the walls, at most one boundary face
+// per pillowed block, the volume of the cube minus the holes, element counts by length; or, where
+// the pillow does not fit between the walls, a TopologyError.
+TEST(DifferenceHoles, BlocksTileTheCubeMinusTheHolesConformingly) {
+  for (const HoleFamily& family : kHoleFamilies) {
+    int pillowed = 0;
+    for (int axis = 0; axis < 3; ++axis)
+      for (int layers = 0; layers <= 2; ++layers)
+        for (const int elements : {4, 8, 16, 32}) {
+          SCOPED_TRACE(std::string(family.name) + ", axis " + std::to_string(axis) + ", layers " + std::to_string(layers) + ", elements " +
+                       std::to_string(elements));
+          const std::vector<Hole> holes = through(axis, family.holes);
+          const double h = 1.0 / (elements + 2 * layers);
+          if (!pillow_fits(family.holes, layers * h)) {
+            EXPECT_THROW(tmesh::difference_blocks(axis, holes, elements, layers), core::TopologyError);
+            continue;
+          }
+          pillowed += layers > 0;
+          const auto blocks = tmesh::difference_blocks(axis, holes, elements, layers);
+          // (a) every face flagged or the whole face of exactly one other block, same element counts.
+          const double area = check_conforming(blocks);
+          // (b) the flagged faces: the cube's six sides and every wall, minus the openings.
+          double want_area = 6, want_volume = 1;
+          for (const Across& a : family.holes) {
+            const double wx = a[1] - a[0], wy = a[3] - a[2];
+            want_area += 2 * (wx + wy) - 2 * wx * wy;
+            want_volume -= wx * wy;
+          }
+          EXPECT_NEAR(area, want_area, 1e-12);
+          for (const BlockFace& f : block_faces(blocks))
+            if (f.flag) {
+              EXPECT_TRUE(on_solid_boundary(f.x, axis, family.holes)) << "a flagged face off the boundary, of block " << f.block;
+            }
+          // (c) pillowed: a frustum has one boundary face, a core column none; and positive Jacobian.
+          check_blocks(blocks, layers > 0);
+          // (d) volume.
+          double volume = 0;
+          for (const auto& b : blocks) {
+            const double v = exact_volume(b.corners);
+            EXPECT_GT(v, 0);
+            volume += v;
+          }
+          EXPECT_NEAR(volume, want_volume, 1e-12);
+          // Element counts: a column's interval across gets its length in elements of h, rounded, at
+          // least one; along the axis `elements` (the core's length is elements h). A column is a box;
+          // its parameter p runs from corner 0 to corner 2^p.
+          for (const auto& b : blocks) {
+            if (b.pillow) continue;
+            for (std::size_t p = 0; p < 3; ++p) {
+              const Vec3 &o = b.corners[0], &e = b.corners[std::size_t{1} << p];
+              const double len = std::sqrt(std::pow(e[0] - o[0], 2) + std::pow(e[1] - o[1], 2) + std::pow(e[2] - o[2], 2)) / h;
+              const bool along = std::abs(e[static_cast<std::size_t>(axis)] - o[static_cast<std::size_t>(axis)]) > 0;
+              const long want = along ? elements : std::max(1L, std::lround(len));
+              EXPECT_EQ(b.elements[p], want) << "length " << len << " h" << (along ? ", along the axis" : "");
+            }
+          }
+        }
+    EXPECT_GT(pillowed, 0) << family.name << ": no pillowed case fits";
+  }
+}
+
+TEST(DifferenceHoles, BadHolesAreRefusedNamingThem) {
+  auto refused = [](int axis, const std::vector<Across>& across, int elements, int layers) {
+    return topology_error([&] { tmesh::difference_blocks(axis, through(axis, across), elements, layers); });
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int layers = 0; layers <= 1; ++layers) {
+      SCOPED_TRACE("axis " + std::to_string(axis) + ", layers " + std::to_string(layers));
+      const Across a{0.2, 0.4, 0.25, 0.5}, far{0.6, 0.8, 0.3, 0.7};
+      // Overlapping, touching along a wall, touching at a corner.
+      EXPECT_NE(refused(axis, {a, far, {0.3, 0.5, 0.4, 0.7}}, 32, layers).find("holes 0 and 2"), std::string::npos);
+      EXPECT_NE(refused(axis, {a, {0.4, 0.55, 0.3, 0.45}}, 32, layers).find("holes 0 and 1"), std::string::npos);
+      EXPECT_NE(refused(axis, {a, {0.4, 0.55, 0.5, 0.7}}, 32, layers).find("holes 0 and 1"), std::string::npos);
+      // Apart across, but the hi wall of one on the line of the lo wall of the other.
+      EXPECT_NE(refused(axis, {{0.1, 0.3, 0.1, 0.3}, {0.3, 0.5, 0.6, 0.8}}, 32, layers).find("holes 0 and 1"), std::string::npos);
+      // Not through the cube, or not strictly inside it across.
+      std::vector<Hole> holes = through(axis, {a, far});
+      holes[1][0][static_cast<std::size_t>(axis)] = 0.1;
+      EXPECT_NE(topology_error([&] { tmesh::difference_blocks(axis, holes, 32, layers); }).find("hole 1"), std::string::npos);
+      EXPECT_NE(refused(axis, {far, {0.0, 0.3, 0.3, 0.6}}, 32, layers).find("hole 1"), std::string::npos);
+      EXPECT_NE(refused(axis, {far, {0.2, 0.1, 0.3, 0.6}}, 32, layers).find("hole 1"), std::string::npos);
+    }
+  // Too close for the pillow (2 t = 1/9 at 16 elements and one layer): side by side, apart across
+  // (every grid line crosses the section), and to the cube's side; all fine without the pillow.
+  const std::vector<std::vector<Across>> close = {{{0.2, 0.4, 0.3, 0.6}, {0.45, 0.7, 0.3, 0.6}},
+                                                  {{0.2, 0.4, 0.1, 0.3}, {0.45, 0.7, 0.6, 0.8}},
+                                                  {{0.6, 0.8, 0.3, 0.7}, {0.05, 0.3, 0.3, 0.6}}};
+  const std::vector<std::string> names = {"holes 0 and 1", "holes 0 and 1", "hole 1 and the cube's side"};
+  for (std::size_t i = 0; i < close.size(); ++i) {
+    EXPECT_NE(refused(2, close[i], 16, 1).find(names[i]), std::string::npos) << names[i] << ": " << refused(2, close[i], 16, 1);
+    EXPECT_EQ(refused(2, close[i], 16, 0), "");
+    EXPECT_EQ(refused(2, close[i], 64, 1), "") << "thinner pillow (2 t = 1/33)";
+  }
+  EXPECT_THROW(tmesh::difference_blocks(2, std::vector<Hole>{}, 8, 1), core::TopologyError);
+  EXPECT_THROW(tmesh::difference_blocks(3, through(2, {{0.2, 0.4, 0.2, 0.4}}), 8, 1), core::TopologyError);
+  EXPECT_THROW(tmesh::difference_blocks(2, through(2, {{0.2, 0.4, 0.2, 0.4}}), 8, -1), core::ConfigError);
+}
