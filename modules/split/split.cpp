@@ -127,6 +127,11 @@ Decomposition split(const surface::Mesh& mesh, const classify::Classification& c
     Decomposition d = detail::split_torus(mesh, detail::sharp_edges(c), params);
     return d;
   }
+  // Several through holes, each bounded by two difference curves (a plate with bolt holes, the
+  // assembly's base): one cube minus a virtual component per hole, as for one.
+  if (c.genus >= 2 && !c.corners.empty() && params.hole != "torus" && c.difference_curves() > 0 &&
+      static_cast<int>(detail::difference_rims(c).size()) == 2 * c.genus)
+    return detail::split_difference(mesh, c, params);
   if (c.genus == 2) {
     if (params.genus2 != "auto") return detail::split_two_tori(mesh, params, &c);
     Params p = params;
@@ -154,7 +159,8 @@ Decomposition split(const surface::Mesh& mesh, const classify::Classification& c
   }
   std::ostringstream s;
   s << "split: genus " << c.genus << " (" << c.patches << " patches, " << c.curves.size() << " curves, " << c.corners.size()
-    << " corners) is not implemented yet: only genus 0 (a cube) and genus 1 (a torus, or a cube minus a through hole) are; "
+    << " corners) is not implemented yet: only genus 0 (a cube), genus 1 (a torus, or a cube minus a through hole), genus 2 "
+       "(two tori) and a cube minus through holes bounded by difference curves are; "
        "set `route: tet` to mesh it";
   throw core::TopologyError(s.str());
 }

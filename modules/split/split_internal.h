@@ -60,8 +60,13 @@ Decomposition split_torus(const surface::Mesh& mesh, const std::set<Edge>& sharp
 /// A genus-2 surface as two tori that meet on a disk filling their separating loop.
 Decomposition split_two_tori(const surface::Mesh& mesh, const Params& params, const classify::Classification* c = nullptr);
 
-/// A genus-1 surface with sharp corners whose through hole is bounded by difference curves: a
-/// cube minus a virtual component.
+/// The difference curves of `c` chained into rim loops; `edges`, if given, receives their edges.
+/// Throws core::TopologyError if they do not form loops.
+std::vector<std::vector<int>> difference_rims(const classify::Classification& c, std::set<Edge>* edges = nullptr);
+
+/// A surface of genus k >= 1 with sharp corners whose k through holes are each bounded by two
+/// difference curves: a cube minus k virtual components (components 1..k, in the order of their
+/// first rim), each with its two fills as contacts with the cube.
 Decomposition split_difference(const surface::Mesh& mesh, const classify::Classification& c, const Params& params);
 
 /// A genus-0 surface whose classify patches meet like the faces of a cube: one cube whose patches

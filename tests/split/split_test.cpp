@@ -267,20 +267,28 @@ TEST(Split, StageJsonRoundTrips) {
 
 namespace {
 
-void check_difference(const split::Decomposition& d) {
+// A cube minus `holes` virtual components: each with six patches, two of them fills (its contacts
+// with the cube).
+void check_difference(const split::Decomposition& d, int holes = 1) {
   check_decomposition(d);
-  ASSERT_EQ(d.components.size(), 2u);
+  ASSERT_EQ(d.components.size(), static_cast<std::size_t>(1 + holes));
   EXPECT_EQ(d.components[0].type, split::ComponentType::cube);
-  EXPECT_EQ(d.components[1].type, split::ComponentType::virtual_component);
+  for (int h = 1; h <= holes; ++h) {
+    EXPECT_EQ(d.components[h].type, split::ComponentType::virtual_component);
+    EXPECT_EQ(d.components[h].patches.size(), 6u);
+  }
   EXPECT_TRUE(d.tori.empty());
   const auto filled = std::count(d.layout.filled.begin(), d.layout.filled.end(), 1);
   EXPECT_GT(filled, 0);
-  // Two of the virtual component's faces are the fills (its contacts with the cube).
-  EXPECT_EQ(d.contacts.size(), 2u);
+  EXPECT_EQ(d.contacts.size(), static_cast<std::size_t>(2 * holes));
+  std::map<int, int> per_hole;
   for (const auto& c : d.contacts) {
     EXPECT_EQ(c.via, "filled_patch");
+    EXPECT_EQ(c.a, 0);
+    ++per_hole[c.b];
     for (int t : d.layout.patches[c.index].triangles) EXPECT_EQ(d.layout.filled[t], 1);
   }
+  for (int h = 1; h <= holes; ++h) EXPECT_EQ(per_hole[h], 2) << "hole " << h;
 }
 
 }  // namespace
@@ -295,6 +303,46 @@ TEST(Split, CubeWithHoleIsACubeMinusAVirtualCylinder) {
   for (int res : {16, 32}) {
     const auto d = run_split(generated("cube-with-hole", res));
     check_difference(d);
+  }
+}
+
+// The assembly's base (Liu et al. 2013, Fig. 1(d)): one cube minus four virtual cylinders. Each
+// hole's component lies around its own hole (radius 0.3 about (+-1.5, +-1)), its fills in the
+// plate's top and bottom planes, and its four wall cuts at the diagonals of the plate's faces.
+TEST(Split, PlateIsACubeMinusFourVirtualCylinders) {
+  for (int res : {16, 24}) {
+    SCOPED_TRACE("resolution " + std::to_string(res));
+    const auto d = run_split(generated("plate", res));
+    check_difference(d, 4);
+    EXPECT_EQ(d.genus, 4);
+    std::set<std::pair<int, int>> centres;
+    for (int h = 1; h <= 4; ++h) {
+      double sx = 0, sy = 0, far = 0;
+      int n = 0;
+      std::vector<std::array<double, 3>> pts;
+      for (const int p : d.components[static_cast<std::size_t>(h)].patches)
+        for (const int t : d.layout.patches[static_cast<std::size_t>(p)].triangles)
+          for (const int v : d.layout.triangles[static_cast<std::size_t>(t)]) pts.push_back(d.layout.points[static_cast<std::size_t>(v)]);
+      for (const auto& q : pts) sx += q[0], sy += q[1], ++n;
+      sx /= n, sy /= n;
+      for (const auto& q : pts) far = std::max(far, std::hypot(q[0] - std::copysign(1.5, sx), q[1] - std::copysign(1.0, sy)));
+      EXPECT_NEAR(std::abs(sx), 1.5, 0.05);
+      EXPECT_NEAR(std::abs(sy), 1.0, 0.05);
+      EXPECT_LT(far, 0.3 + 1e-9);  // the prism is inscribed in the cylinder
+      centres.insert({sx > 0 ? 1 : -1, sy > 0 ? 1 : -1});
+    }
+    EXPECT_EQ(centres.size(), 4u);  // one component per hole
+    for (const auto& c : d.contacts) {
+      const auto& patch = d.layout.patches[static_cast<std::size_t>(c.index)];
+      for (const int t : patch.triangles)
+        for (const int v : d.layout.triangles[static_cast<std::size_t>(t)]) EXPECT_NEAR(std::abs(d.layout.points[static_cast<std::size_t>(v)][2]), 0.25, 1e-9);
+      // The fill's corners, where the wall cuts meet the rim: on the diagonals seen from the hole.
+      for (const int v : patch.corners) {
+        const auto& q = d.layout.points[static_cast<std::size_t>(v)];
+        const double deg = std::atan2(q[1] - (q[1] > 0 ? 1.0 : -1.0), q[0] - (q[0] > 0 ? 1.5 : -1.5)) * 180 / 3.14159265358979323846;
+        EXPECT_NEAR(std::fmod(deg + 360, 90.0), 45.0, 1.0) << "corner at " << q[0] << ", " << q[1];
+      }
+    }
   }
 }
 
