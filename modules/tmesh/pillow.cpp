@@ -200,9 +200,10 @@ std::string pair_name(int g, int h) {
 
 }  // namespace
 
-std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3, 2>>& holes, int elements, int layers) {
+std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3, 2>>& holes, const std::array<int, 3>& elements, int layers) {
   if (layers < 0) throw core::ConfigError("tmesh.pillow_layers must be >= 0, got " + std::to_string(layers));
-  if (elements < 1) throw core::ConfigError("tmesh: a cube needs at least one element per direction");
+  for (const int e : elements)
+    if (e < 1) throw core::ConfigError("tmesh: a cube needs at least one element per direction");
   if (axis < 0 || axis > 2) throw core::TopologyError("tmesh: the holes' axis must be 0, 1 or 2");
   if (holes.empty()) throw core::TopologyError("tmesh: a difference needs at least one hole");
   // Local frame: x, y across the holes, z along them; cube axis of local d is (axis + 1 + d) % 3 (a
@@ -223,7 +224,15 @@ std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3
     for (int j = i + 1; j < k; ++j)
       if (lo(i, 0) <= hi(j, 0) && lo(j, 0) <= hi(i, 0) && lo(i, 1) <= hi(j, 1) && lo(j, 1) <= hi(i, 1))
         throw core::TopologyError("tmesh: holes " + std::to_string(i) + " and " + std::to_string(j) + " overlap or touch");
-  const double h = 1.0 / (elements + 2 * layers), t = layers * h;
+  // Per local axis (x, y across, z along): the element size and the pillow's thickness in the
+  // cube's parameters (the pillow is `layers` elements of that axis thick).
+  std::array<int, 3> per_axis{};
+  std::array<double, 3> h{}, th{};
+  for (int d = 0; d < 3; ++d) {
+    const auto u = static_cast<std::size_t>(d);
+    per_axis[u] = elements[static_cast<std::size_t>(cube_axis(d))];
+    h[u] = 1.0 / (per_axis[u] + 2 * layers), th[u] = layers * h[u];
+  }
   // Grid lines along each local cross axis, with the core lines (as the one-hole construction: t,
   // lo - t, hi + t, 1 - t; the core is the solid shrunk by t only while they keep the grid lines'
   // order) and the element counts of their intervals.
@@ -246,15 +255,16 @@ std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3
     }
     auto& g = G[static_cast<std::size_t>(d)];
     auto& c = C[static_cast<std::size_t>(d)];
+    const double t = th[static_cast<std::size_t>(d)];
     for (const GridLine& l : unique) g.push_back(l.at), c.push_back(l.toward > 0 ? l.at + t : l.at - t);
     for (std::size_t i = 0; i + 1 < c.size(); ++i)
       if (!(c[i] < c[i + 1]))
         throw core::TopologyError("tmesh: " + pair_name(unique[i].hole, unique[i + 1].hole) + " lie too close together along cube axis " +
                                   std::to_string(cube_axis(d)) + " for a pillow of " + std::to_string(layers) + " layer(s) of 1/" +
-                                  std::to_string(elements + 2 * layers) + " (lower tmesh.pillow_layers or raise tmesh.level)");
+                                  std::to_string(per_axis[static_cast<std::size_t>(d)] + 2 * layers) + " (lower tmesh.pillow_layers or raise tmesh.level)");
     const std::vector<double>& L = layers ? c : g;  // lines the columns' element counts follow
     for (std::size_t i = 0; i + 1 < L.size(); ++i)
-      n[static_cast<std::size_t>(d)].push_back(std::max(1, static_cast<int>(std::lround((L[i + 1] - L[i]) / h))));
+      n[static_cast<std::size_t>(d)].push_back(std::max(1, static_cast<int>(std::lround((L[i + 1] - L[i]) / h[static_cast<std::size_t>(d)]))));
     for (int i = 0; i < k; ++i)
       for (int s = 0; s < 2; ++s) {
         const double w = s ? hi(i, d) : lo(i, d);
@@ -288,6 +298,8 @@ std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3
   };
   const std::vector<double>& XL = layers ? Xc : X;
   const std::vector<double>& YL = layers ? Yc : Y;
+  const double t = th[2];  // along the holes
+  const int nz = per_axis[2];
   const double z0 = layers ? t : 0, z1 = layers ? 1 - t : 1;
   // Columns (the core's, or the solid's without pillow).
   for (std::size_t j = 0; j < cy; ++j)
@@ -297,7 +309,7 @@ std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3
       std::array<int, 6> boundary{0, 0, 0, 0, 0, 0};
       if (!layers)  // is_solid is false off the grid: i - 1 wraps past cx
         boundary = {!is_solid(i - 1, j), !is_solid(i + 1, j), !is_solid(i, j - 1), !is_solid(i, j + 1), 1, 1};
-      add(frustum(2, hi_face, lo_face, true), {nx[i], ny[j], elements}, boundary, false);
+      add(frustum(2, hi_face, lo_face, true), {nx[i], ny[j], nz}, boundary, false);
     }
   if (!layers) return out;
   // Under the cube's four sides: a frustum per grid interval, between the side and the core's side
@@ -308,10 +320,10 @@ std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3
       bx[static_cast<std::size_t>(s)] = 1, by[static_cast<std::size_t>(2 + s)] = 1;
       if (m < cy)
         add(frustum(0, {double(s), {0, Y[m], 0}, {0, Y[m + 1], 1}}, {Xc[s ? cx : 0], {0, Yc[m], t}, {0, Yc[m + 1], 1 - t}}, s == 1),
-            {layers, ny[m], elements}, bx, true);
+            {layers, ny[m], nz}, bx, true);
       if (m < cx)
         add(frustum(1, {double(s), {X[m], 0, 0}, {X[m + 1], 0, 1}}, {Yc[s ? cy : 0], {Xc[m], 0, t}, {Xc[m + 1], 0, 1 - t}}, s == 1),
-            {nx[m], layers, elements}, by, true);
+            {nx[m], layers, nz}, by, true);
     }
   // Under the two holed faces: a frustum per column, between its cell and the core's.
   for (int s = 0; s < 2; ++s)
@@ -333,12 +345,16 @@ std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3
       const std::size_t wx = w[0][static_cast<std::size_t>(s)], wy = w[1][static_cast<std::size_t>(s)];
       for (std::size_t j = w[1][0]; j < w[1][1]; ++j)
         add(frustum(0, {X[wx], {0, Y[j], 0}, {0, Y[j + 1], 1}}, {Xc[wx], {0, Yc[j], t}, {0, Yc[j + 1], 1 - t}}, s == 0),
-            {layers, ny[j], elements}, bx, true);
+            {layers, ny[j], nz}, bx, true);
       for (std::size_t i = w[0][0]; i < w[0][1]; ++i)
         add(frustum(1, {Y[wy], {X[i], 0, 0}, {X[i + 1], 0, 1}}, {Yc[wy], {Xc[i], 0, t}, {Xc[i + 1], 0, 1 - t}}, s == 0),
-            {nx[i], layers, elements}, by, true);
+            {nx[i], layers, nz}, by, true);
     }
   return out;
+}
+
+std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3, 2>>& holes, int elements, int layers) {
+  return difference_blocks(axis, holes, {elements, elements, elements}, layers);
 }
 
 std::vector<Block> difference_blocks(int axis, const Vec3& hole_lo, const Vec3& hole_hi, int elements, int layers) {

@@ -76,6 +76,11 @@ std::vector<Block> cube_blocks(const std::array<int, 6>& boundary, const std::ar
 /// the two holes are apart along the other cross axis, since every grid line crosses the section).
 std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3, 2>>& holes, int elements, int layers);
 
+/// The same with element counts per cube axis (`elements[a]` along cube axis a: a flat plate
+/// needs fewer across its thickness than along its sides), the pillow `layers` elements of each
+/// axis thick; the overload above is {elements, elements, elements}.
+std::vector<Block> difference_blocks(int axis, const std::vector<std::array<Vec3, 2>>& holes, const std::array<int, 3>& elements, int layers);
+
 /// The blocks of a cube minus one through hole [hole_lo, hole_hi]: difference_blocks(axis,
 /// {{hole_lo, hole_hi}}, elements, layers) — eight columns; with layers the core's eight columns and
 /// 32 frusta (three under each side of the cube, eight under each holed face, one under each wall).

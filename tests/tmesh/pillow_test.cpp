@@ -797,6 +797,52 @@ TEST(DifferenceHoles, BlocksTileTheCubeMinusTheHolesConformingly) {
   }
 }
 
+// Element counts per cube axis: the plate of the assembly (4 x 3 x 0.5, holes of radius 0.3 at
+// (+-1.5, +-1)) in its cube's parameters, with counts proportional to its sides (the pillow then
+// one physical thickness). Conforming, its volume, and every block's element size along each cube
+// axis 1 / (n_a + 2 layers) of that axis, where a uniform count cannot fit the pillow at all.
+TEST(DifferenceHoles, ElementCountsPerAxisFitAFlatPlate) {
+  const std::vector<Across> bolts = {{0.05, 0.2, 0.2 / 3, 0.8 / 3}, {0.8, 0.95, 0.2 / 3, 0.8 / 3}, {0.05, 0.2, 2.2 / 3, 2.8 / 3}, {0.8, 0.95, 2.2 / 3, 2.8 / 3}};
+  const std::vector<Hole> holes = through(2, bolts);
+  EXPECT_THROW(tmesh::difference_blocks(2, holes, 8, 1), core::TopologyError);  // 1/10 of 4 is wider than the 0.2 beside a hole
+  for (const std::array<int, 3> n : {std::array<int, 3>{64, 48, 8}, std::array<int, 3>{96, 72, 12}}) {
+    for (const int layers : {1, 2}) {
+      if (2.0 * layers / (n[0] + 2 * layers) >= 0.05) {  // two pillows in the 0.05 beside a hole
+        EXPECT_THROW(tmesh::difference_blocks(2, holes, n, layers), core::TopologyError);
+        continue;
+      }
+      SCOPED_TRACE("counts " + std::to_string(n[0]) + " " + std::to_string(n[1]) + " " + std::to_string(n[2]) + ", layers " + std::to_string(layers));
+      const auto blocks = tmesh::difference_blocks(2, holes, n, layers);
+      check_conforming(blocks);
+      check_blocks(blocks, true);
+      double volume = 0;
+      for (const auto& b : blocks) volume += exact_volume(b.corners);
+      double want = 1;
+      for (const Across& a : bolts) want -= (a[1] - a[0]) * (a[3] - a[2]);
+      EXPECT_NEAR(volume, want, 1e-12);
+      // Columns are boxes: along cube axis a their length in elements of 1 / (n_a + 2 layers),
+      // rounded (at least one), and n_2 along the holes.
+      for (const auto& b : blocks) {
+        if (b.pillow) continue;
+        for (std::size_t p = 0; p < 3; ++p) {
+          const Vec3 &o = b.corners[0], &e = b.corners[std::size_t{1} << p];
+          const double len = std::abs(e[p] - o[p]) * (n[p] + 2 * layers);
+          EXPECT_EQ(b.elements[p], p == 2 ? n[2] : std::max(1L, std::lround(len))) << "axis " << p << ", length " << len;
+        }
+      }
+      // The pillow: the core spans [t_a, 1 - t_a] along cube axis a, t_a = layers / (n_a + 2 layers).
+      for (std::size_t p = 0; p < 3; ++p) {
+        double lo = 1, hi = 0;
+        for (const auto& blk : blocks)
+          if (!blk.pillow)
+            for (const Vec3& c : blk.corners) lo = std::min(lo, c[p]), hi = std::max(hi, c[p]);
+        EXPECT_NEAR(lo, layers / double(n[p] + 2 * layers), 1e-12) << "axis " << p;
+        EXPECT_NEAR(hi, 1 - layers / double(n[p] + 2 * layers), 1e-12) << "axis " << p;
+      }
+    }
+  }
+}
+
 TEST(DifferenceHoles, BadHolesAreRefusedNamingThem) {
   auto refused = [](int axis, const std::vector<Across>& across, int elements, int layers) {
     return topology_error([&] { tmesh::difference_blocks(axis, through(axis, across), elements, layers); });
