@@ -587,6 +587,35 @@ tmesh::PolycubeMaps connector_maps(const std::string& in, std::vector<Ring> list
   return m;
 }
 
+// The mean length in the solid of the cube's four edges along each axis (polylines of 16 pieces,
+// 1e-3 inside the cube so that every point lies in a tet of the volume map).
+std::array<double, 3> cube_side_lengths(const volmap::Locator& locate, const std::string& in) {
+  std::array<double, 3> out{};
+  const double e = 1e-3;
+  for (int d = 0; d < 3; ++d) {
+    const int d1 = (d + 1) % 3, d2 = (d + 2) % 3;
+    double sum = 0;
+    for (const double s1 : {e, 1 - e})
+      for (const double s2 : {e, 1 - e}) {
+        auto at = [&](double t) {
+          tmesh::Vec3 u{};
+          u[static_cast<std::size_t>(d)] = t, u[static_cast<std::size_t>(d1)] = s1, u[static_cast<std::size_t>(d2)] = s2;
+          const auto p = locate.physical(u);
+          if (!p) throw core::NumericalError(in + ": a point of the cube's edge lies outside the volume map");
+          return *p;
+        };
+        tmesh::Vec3 a = at(e);
+        for (int i = 1; i <= 16; ++i) {
+          const tmesh::Vec3 b = at(e + (1 - 2 * e) * i / 16.0);
+          sum += std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+          a = b;
+        }
+      }
+    out[static_cast<std::size_t>(d)] = sum / 4;
+  }
+  return out;
+}
+
 // The polycube structure the stage wrote (structure.h), if the file has one (files written before
 // it had none and are read as before): read, checked to be a polycube and to be the structure of
 // `kind` (its counts of tori, virtual components and, for one cube, cubes). The file was checked
@@ -601,7 +630,11 @@ std::optional<polycube::Structure> read_structure(const std::string& in, const c
   }
   const core::Json f = polycube::report_figures(s);
   const std::size_t rings = kind == "tori" && j.contains("rings") && j["rings"].is_array() ? j["rings"].size() : 0;
-  const std::size_t tori = kind == "torus" ? 1 : kind == "tori" ? rings : 0, virt = kind == "difference" ? 1 : 0;
+  // A difference has one virtual component per hole (its polycube's `holes`, or one).
+  std::size_t holes = 1;
+  if (kind == "difference" && j.contains("polycube") && j["polycube"].is_object() && j["polycube"].contains("holes") && j["polycube"]["holes"].is_array())
+    holes = j["polycube"]["holes"].size();
+  const std::size_t tori = kind == "torus" ? 1 : kind == "tori" ? rings : 0, virt = kind == "difference" ? holes : 0;
   const bool one_cube = kind == "cube" || kind == "difference";
   if (f["tori"] != tori || f["virtual_components"] != virt || (one_cube && f["cubes"] != 1))
     throw core::InvalidInputError(in + ": structure does not match kind '" + kind + "': it has " + f["cubes"].dump() + " cubes, " +
@@ -650,13 +683,16 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
     return r;
   }
   if (kind == "difference") {
-    // A cube minus a through hole: the blocks around the hole (pillowed under the outer
-    // faces and the walls alike), every point through the volume map.
+    // A cube minus through holes: the blocks around the holes (pillowed under the outer faces
+    // and the walls alike), every point through the volume map.
     const polycube::DifferenceMap m = polycube::difference_from_json(core::require(j, "polycube", in), in);
     if (structure) {
-      const auto& boxes = structure->virtual_components[0].boxes;
-      if (boxes.size() != 1 || boxes[0].lo != m.hole_lo || boxes[0].hi != m.hole_hi)
-        throw core::InvalidInputError(in + ": structure's virtual component is not the hole's box polycube.hole_lo/hole_hi");
+      for (std::size_t h = 0; h < m.holes.size(); ++h) {
+        const auto& boxes = structure->virtual_components.at(h).boxes;
+        if (boxes.size() != 1 || boxes[0].lo != m.holes[h].lo || boxes[0].hi != m.holes[h].hi)
+          throw core::InvalidInputError(in + ": structure's virtual component " + std::to_string(h) + " is not hole " + std::to_string(h) +
+                                        "'s box in polycube");
+      }
     }
     std::shared_ptr<volmap::Locator> locate;
     {
@@ -673,7 +709,24 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
       locate = std::make_shared<volmap::Locator>(vm);
     }
     tmesh::PolycubeMaps& maps = r.maps;
-    maps.blocks = {tmesh::difference_blocks(m.axis, m.hole_lo, m.hole_hi, 1 << params.level, params.pillow_layers)};
+    std::vector<std::array<tmesh::Vec3, 2>> boxes;
+    for (const auto& h : m.holes) boxes.push_back({h.lo, h.hi});
+    if (boxes.size() == 1) {
+      maps.blocks = {tmesh::difference_blocks(m.axis, boxes, 1 << params.level, params.pillow_layers)};
+    } else {
+      // Several holes (a plate with bolt holes): 2^level elements along the cube's shortest side in
+      // the solid, the others as many more as they are longer, so elements (and the pillow, layers
+      // of them) are about as long one way as another; one count for all would make a flat
+      // plate's elements 8:1 and leave no room for the pillow between its holes and its sides.
+      const std::array<double, 3> length = cube_side_lengths(*locate, in);
+      const double shortest = *std::min_element(length.begin(), length.end());
+      std::array<int, 3> counts{};
+      for (int a = 0; a < 3; ++a)
+        counts[static_cast<std::size_t>(a)] = std::max(1, static_cast<int>(std::lround((1 << params.level) * length[static_cast<std::size_t>(a)] / shortest)));
+      core::log("elements per cube axis " + std::to_string(counts[0]) + " x " + std::to_string(counts[1]) + " x " + std::to_string(counts[2]) +
+                " (sides " + std::to_string(length[0]) + ", " + std::to_string(length[1]) + ", " + std::to_string(length[2]) + " in the solid)");
+      maps.blocks = {tmesh::difference_blocks(m.axis, boxes, counts, params.pillow_layers)};
+    }
     maps.physical = [locate](int, const tmesh::Vec3& abc) {
       const auto p = locate->physical(abc);
       if (!p) throw core::NumericalError("tmesh: a point of the cube minus the hole lies outside the volume map");

@@ -57,11 +57,11 @@ int split_face(const split::Decomposition& d, int c, int internal, const std::st
 // components: per torus a torus primitive of its n unit cubes in ring order along a, its ring
 // gluings those split's internal-face contacts give (so a ring split did not close, or closed out
 // of order, is check()'s error naming the cubes); a unit cube per cube component, each in its own
-// frame (split gives no boxes, so two of them are "not connected"); the hole of a difference (`hole`:
-// its box in the unit cube, as polycube.hole_lo/hole_hi) as a virtual component of its cube — the
-// hole's rims are that component's openings; two tori's filled disk as a non-conforming contact of
-// the ring faces holding it (a patch inside those faces, not a rectangle of both: no gluing).
-polycube::Structure decomposition_structure(const split::Decomposition& d, const polycube::DifferenceMap* hole) {
+// frame (split gives no boxes, so two of them are "not connected"); each hole of a difference
+// (`holes`: their boxes in the unit cube, as the polycube payload's) as a virtual component of its
+// cube — the hole's rims are that component's openings; two tori's filled disk as a non-conforming
+// contact of the ring faces holding it (a patch inside those faces, not a rectangle of both: no gluing).
+polycube::Structure decomposition_structure(const split::Decomposition& d, const polycube::DifferenceMap* holes) {
   using polycube::Box;
   using split::ComponentType;
   const int nc = static_cast<int>(d.components.size());
@@ -95,10 +95,14 @@ polycube::Structure decomposition_structure(const split::Decomposition& d, const
   }
   for (int c = 0; c < nc; ++c) {
     if (d.components[c].type != ComponentType::virtual_component) continue;
-    if (!hole || hole->virtual_component != c || hole->cube < 0 || hole->cube >= nc || cube_of[hole->cube] < 0)
-      throw core::TopologyError(component_name(c) + " is a virtual component; only the through hole of a difference (one cube minus one "
-                                "virtual component) is supported");
-    polycube::subtract(s, cube_of[hole->cube], component_name(c), {Box{hole->hole_lo, hole->hole_hi}});
+    const polycube::HoleBox* hole = nullptr;
+    if (holes)
+      for (const auto& h : holes->holes)
+        if (h.virtual_component == c) hole = &h;
+    if (!hole || holes->cube < 0 || holes->cube >= nc || cube_of[holes->cube] < 0)
+      throw core::TopologyError(component_name(c) + " is a virtual component; only the through holes of a difference (one cube minus "
+                                "virtual components) are supported");
+    polycube::subtract(s, cube_of[holes->cube], component_name(c), {Box{hole->lo, hole->hi}});
   }
   for (const auto& x : d.contacts) {
     const std::string who = "components " + std::to_string(x.a) + " and " + std::to_string(x.b) + " (" + x.via + " " + std::to_string(x.index) + ")";
@@ -133,10 +137,10 @@ polycube::Structure decomposition_structure(const split::Decomposition& d, const
 
 // The structure, checked before anything is written: a component graph that is no polycube is a
 // TopologyError naming the components.
-polycube::Structure checked_structure(const split::Decomposition& d, const polycube::DifferenceMap* hole = nullptr) {
+polycube::Structure checked_structure(const split::Decomposition& d, const polycube::DifferenceMap* holes = nullptr) {
   core::LogSection section("structure");
   try {
-    polycube::Structure s = decomposition_structure(d, hole);
+    polycube::Structure s = decomposition_structure(d, holes);
     polycube::check(s);
     const core::Json f = polycube::report_figures(s);
     core::log_verbose("polycube structure: " + f.dump());
@@ -309,8 +313,8 @@ core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::D
   return r;
 }
 
-// A cube minus a through hole (Liu et al. §4.2 difference, §4.3): the solid (fills excluded) onto
-// the unit cube minus the hole's box, surface then volume.
+// A cube minus k >= 1 through holes along one axis (Liu et al. §4.2 difference, §4.3): the solid
+// (fills excluded) onto the unit cube minus the holes' boxes, surface then volume.
 core::Json difference(pipeline::StageContext& ctx, const core::Json& j, const split::Decomposition& d) {
   polycube::DifferenceMap m;
   {
@@ -330,7 +334,9 @@ core::Json difference(pipeline::StageContext& ctx, const core::Json& j, const sp
   write_with_volume_map(ctx, j, "difference", polycube::to_json(m), vm, structure, r,
                         [&](const std::string& path, bool mapped) { polycube::write_difference_vtp(path, d, m, mapped); });
   r["hole_axis"] = m.axis;
-  r["hole_width"] = m.hole_hi[(m.axis + 1) % 3] - m.hole_lo[(m.axis + 1) % 3];
+  const polycube::HoleBox& first = m.holes.at(0);  // hole_width: the first hole's mean width across its axis
+  r["hole_width"] = (first.hi[(m.axis + 1) % 3] - first.lo[(m.axis + 1) % 3] + first.hi[(m.axis + 2) % 3] - first.lo[(m.axis + 2) % 3]) / 2;
+  r["holes"] = m.holes.size();
   r["flipped_surface_triangles"] = m.flipped_surface_triangles;
   r["max_angle_distortion_deg"] = m.max_angle_distortion_deg;
   return r;
@@ -346,7 +352,8 @@ int main(int argc, char** argv) {
       "DIR/polycube.vtp (surface with cube coordinates 'uvw'), DIR/polycube_mapped.vtp (the surface on the cube);\n"
       "tori also DIR/polycube_tets.vtu and DIR/polycube_tets_mapped.vtu (the volume map's tets, physical and mapped);\n"
       "two tori meeting on a disk: one ring per torus (cell field 'ring'; ring i drawn 5i along x when mapped);\n"
-      "a cube minus a through hole: the unit cube minus the hole's box (polycube.hole_lo/hole_hi), tets too.",
+      "a cube minus through holes: the unit cube minus the holes' boxes (polycube.hole_lo/hole_hi, several holes:\n"
+      "polycube.holes), tets too.",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("split");
         const core::Json j = core::read_stage_file(in, "volts-split", 2);

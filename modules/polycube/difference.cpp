@@ -39,29 +39,42 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
   const split::Decomposition d = merge_face_patches(input);
   const split::Layout& L = d.layout;
   DifferenceMap m;
-  m.cube = m.virtual_component = -1;
-  bool other = d.components.size() != 2;
+  m.cube = -1;
+  bool other = false;
   for (std::size_t c = 0; c < d.components.size(); ++c) {
     const auto type = d.components[c].type;
     if (type == split::ComponentType::cube && m.cube < 0) m.cube = static_cast<int>(c);
-    else if (type == split::ComponentType::virtual_component && m.virtual_component < 0) m.virtual_component = static_cast<int>(c);
+    else if (type == split::ComponentType::virtual_component) m.holes.push_back(HoleBox{static_cast<int>(c), {0, 0, 0}, {1, 1, 1}});
     else other = true;
   }
-  if (other || m.cube < 0 || m.virtual_component < 0)
-    throw core::TopologyError("polycube: a difference is one cube minus one virtual component; the components are " + describe(d));
-  m.axis = -1;
-  std::vector<int> fills;
+  if (other || m.cube < 0 || m.holes.empty())
+    throw core::TopologyError("polycube: a difference is one cube minus virtual components (through holes); the components are " + describe(d));
+  const std::size_t nh = m.holes.size();
+  // Hole h: "hole h (virtual component c)" in messages.
+  auto hole_name = [&](std::size_t h) {
+    return nh == 1 ? "the virtual component " + std::to_string(m.holes[h].virtual_component)
+                   : "hole " + std::to_string(h) + " (virtual component " + std::to_string(m.holes[h].virtual_component) + ")";
+  };
+  std::map<int, std::size_t> hole_of;  // virtual component -> hole
+  for (std::size_t h = 0; h < nh; ++h) hole_of[m.holes[h].virtual_component] = h;
+  std::vector<std::vector<int>> fills(nh);  // per hole: its fill patches, in contact order
   for (const auto& c : d.contacts) {
-    if (c.via != "filled_patch" || std::min(c.a, c.b) != std::min(m.cube, m.virtual_component) ||
-        std::max(c.a, c.b) != std::max(m.cube, m.virtual_component) || c.index < 0 || c.index >= static_cast<int>(L.patches.size()))
+    const int lo = std::min(c.a, c.b), hi = std::max(c.a, c.b);
+    const int v = lo == m.cube ? hi : hi == m.cube ? lo : -1;
+    const auto h = hole_of.find(v);
+    if (c.via != "filled_patch" || h == hole_of.end() || c.index < 0 || c.index >= static_cast<int>(L.patches.size())) {
+      const int named = hole_of.count(c.a) ? c.a : hole_of.count(c.b) ? c.b : -1;
       throw core::TopologyError("polycube: components " + std::to_string(c.a) + " and " + std::to_string(c.b) + " meet via " + c.via + " " +
-                                std::to_string(c.index) + "; in a difference the virtual component " + std::to_string(m.virtual_component) +
+                                std::to_string(c.index) + "; in a difference " +
+                                (named >= 0 ? "the virtual component " + std::to_string(named) : std::string("each virtual component")) +
                                 " meets the cube " + std::to_string(m.cube) + " only on filled patches");
-    fills.push_back(c.index);
+    }
+    fills[h->second].push_back(c.index);
   }
-  if (fills.size() != 2)
-    throw core::TopologyError("polycube: the virtual component " + std::to_string(m.virtual_component) + " meets the cube " + std::to_string(m.cube) +
-                              " on " + std::to_string(fills.size()) + " filled patches; a through hole meets it on two (blind holes are not supported)");
+  for (std::size_t h = 0; h < nh; ++h)
+    if (fills[h].size() != 2)
+      throw core::TopologyError("polycube: " + hole_name(h) + " meets the cube " + std::to_string(m.cube) + " on " + std::to_string(fills[h].size()) +
+                                " filled patches; a through hole meets it on two (blind holes are not supported)");
 
   // The solid's vertices come first in the layout (split appends the fills' vertices last).
   std::vector<char> used;
@@ -79,9 +92,10 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
   const std::vector<PatchMap> maps = map_patches(d, params);
   // The cube's frame: each corner's corner of the unit cube, from the faces' corner cycles.
   const auto& cube = d.components[static_cast<std::size_t>(m.cube)];
-  const auto& hole = d.components[static_cast<std::size_t>(m.virtual_component)];
-  if (cube.faces.size() != 6 || hole.faces.size() != 6)
-    throw core::TopologyError("polycube: the cube or the virtual component of a difference has not six faces");
+  if (cube.faces.size() != 6) throw core::TopologyError("polycube: the cube " + std::to_string(m.cube) + " of a difference has not six faces");
+  for (std::size_t h = 0; h < nh; ++h)
+    if (d.components[static_cast<std::size_t>(m.holes[h].virtual_component)].faces.size() != 6)
+      throw core::TopologyError("polycube: " + hole_name(h) + " of a difference has not six faces");
   std::map<int, int> corner_index;
   for (const auto& f : cube.faces)
     for (int v : f.corners) corner_index.emplace(v, static_cast<int>(corner_index.size()));
@@ -98,62 +112,70 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
     const auto it = corner_at.find(v);
     if (it == corner_at.end())
       throw core::TopologyError("polycube: patch " + std::to_string(patch) + " has a corner (vertex " + std::to_string(v) +
-                                ") that is neither a corner of the cube nor of the hole");
+                                ") that is neither a corner of the cube nor of a hole");
     return it->second;
   };
 
-  // The holed faces: the cube faces that hold a fill; the hole runs between them.
-  std::array<int, 2> holed{-1, -1};
-  for (int i = 0; i < 2; ++i) {
-    const int t = L.patches[static_cast<std::size_t>(fills[i])].triangles.front();
-    for (std::size_t f = 0; f < cube.faces.size(); ++f)
-      for (int p : cube.faces[f].patches) {
-        const auto& tris = L.patches[static_cast<std::size_t>(p)].triangles;
-        if (std::find(tris.begin(), tris.end(), t) != tris.end()) holed[i] = p;
-      }
-    if (holed[i] < 0) throw core::TopologyError("polycube: fill patch " + std::to_string(fills[i]) + " lies in no face of the cube");
+  // The holed faces: the cube faces that hold a hole's fills; every hole runs between the same two.
+  std::vector<std::array<int, 2>> holed(nh, {-1, -1});
+  std::vector<std::array<Vec3, 2>> side(nh);
+  m.axis = -1;
+  for (std::size_t h = 0; h < nh; ++h) {
+    int axis = -1;
+    for (int i = 0; i < 2; ++i) {
+      const int t = L.patches[static_cast<std::size_t>(fills[h][i])].triangles.front();
+      for (std::size_t f = 0; f < cube.faces.size(); ++f)
+        for (int p : cube.faces[f].patches) {
+          const auto& tris = L.patches[static_cast<std::size_t>(p)].triangles;
+          if (std::find(tris.begin(), tris.end(), t) != tris.end()) holed[h][i] = p;
+        }
+      if (holed[h][i] < 0) throw core::TopologyError("polycube: fill patch " + std::to_string(fills[h][i]) + " lies in no face of the cube");
+    }
+    for (int i = 0; i < 2; ++i) {
+      std::array<Vec3, 4> x;
+      for (int k = 0; k < 4; ++k) x[k] = corner_point(L.patches[static_cast<std::size_t>(holed[h][i])].corners[k], holed[h][i]);
+      const int f = face_of(x);
+      if (f < 0) throw core::TopologyError("polycube: patch " + std::to_string(holed[h][i]) + " does not lie on one face of the cube");
+      if (axis >= 0 && axis != f / 2)
+        throw core::TopologyError("polycube: the two rims of " + hole_name(h) + " lie on faces of the cube that are not opposite (patches " +
+                                  std::to_string(holed[h][0]) + " and " + std::to_string(holed[h][1]) + ")");
+      axis = f / 2;
+      side[h][i] = x[0];
+    }
+    if (side[h][0][axis] == side[h][1][axis])
+      throw core::TopologyError("polycube: both rims of " + hole_name(h) + " lie on the same face of the cube (patch " + std::to_string(holed[h][0]) + ")");
+    if (h > 0 && axis != m.axis)
+      throw core::TopologyError("polycube: " + hole_name(h) + " runs along cube axis " + std::to_string(axis) + ", " + hole_name(0) + " along axis " +
+                                std::to_string(m.axis) + "; the holes of a difference must run along one axis (their fills on the same two opposite faces)");
+    if (h > 0 && std::set<int>(holed[h].begin(), holed[h].end()) != std::set<int>(holed[0].begin(), holed[0].end()))
+      throw core::TopologyError("polycube: the rims of " + hole_name(h) + " lie in patches " + std::to_string(holed[h][0]) + " and " +
+                                std::to_string(holed[h][1]) + ", those of " + hole_name(0) + " in " + std::to_string(holed[0][0]) + " and " +
+                                std::to_string(holed[0][1]));
+    m.axis = axis;
   }
-  std::array<Vec3, 2> side;
-  for (int i = 0; i < 2; ++i) {
-    std::array<Vec3, 4> x;
-    for (int k = 0; k < 4; ++k) x[k] = corner_point(L.patches[static_cast<std::size_t>(holed[i])].corners[k], holed[i]);
-    const int f = face_of(x);
-    if (f < 0) throw core::TopologyError("polycube: patch " + std::to_string(holed[i]) + " does not lie on one face of the cube");
-    if (m.axis >= 0 && m.axis != f / 2)
-      throw core::TopologyError("polycube: the hole's two rims lie on faces of the cube that are not opposite (patches " +
-                                std::to_string(holed[0]) + " and " + std::to_string(holed[1]) + ")");
-    m.axis = f / 2;
-    side[i] = x[0];
-  }
-  if (side[0][m.axis] == side[1][m.axis])
-    throw core::TopologyError("polycube: both rims of the hole lie on the same face of the cube (patch " + std::to_string(holed[0]) + ")");
 
-  // The hole's box. Its mean width (relative to the cube) is the ratio of the rims' length to the
-  // faces' (at most 0.5: the T-mesh's pillow, one element of 1/10 at the default level, needs room
-  // beside it). Its centre and aspect follow where the rim lies in its face: each rim vertex's
-  // bilinear coordinates in the quad of the face's four corners (closest point, Gauss-Newton; exact
-  // for a planar face) give a box per face, and the two faces' boxes are averaged. (A harmonic map
-  // of the face was tried first: on the 48-vertex tube it moved the box across both axes for a hole
-  // moved across one.) The box keeps 0.25 from the cube's sides (measured in session 5: a column
-  // 0.225 wide left the pillow's frusta 0.025 wide and the worst elements there).
+  // The holes' boxes. A rim vertex's place in its face: its bilinear coordinates in the quad of the
+  // face's four corners (closest point, Gauss-Newton; exact for a planar face), taken to cube
+  // parameters; `rim_extent` gives the min and max of those over a rim, across the hole (a1, a2).
+  // (A harmonic map of the face was tried first: on the 48-vertex tube it moved the box across
+  // both axes for a hole moved across one.)
   const int a1 = (m.axis + 1) % 3, a2 = (m.axis + 2) % 3;
-  double rim = 0, outer = 0;
-  std::array<double, 2> centre{0, 0}, extent{0, 0};
-  for (int i = 0; i < 2; ++i) {
-    const auto& P = L.patches[static_cast<std::size_t>(holed[i])];
-    const auto& F = L.patches[static_cast<std::size_t>(fills[i])];
+  auto rim_extent = [&](int holed_patch, int fill, std::array<double, 2>& lo, std::array<double, 2>& hi, double* length = nullptr) {
+    const auto& P = L.patches[static_cast<std::size_t>(holed_patch)];
+    const auto& F = L.patches[static_cast<std::size_t>(fill)];
     std::array<Eigen::Vector3d, 4> X;  // physical corners
     std::array<Vec3, 4> C;             // their cube points
     for (int k = 0; k < 4; ++k) {
-      rim += chain_length(L, F.sides[k]);
-      outer += chain_length(L, P.sides[k]);
       const auto& q = L.points[P.corners[k]];
       X[k] = Eigen::Vector3d(q[0], q[1], q[2]);
-      C[k] = corner_point(P.corners[k], holed[i]);
+      C[k] = corner_point(P.corners[k], holed_patch);
     }
-    std::array<double, 2> lo{1, 1}, hi{0, 0};
-    for (const auto& side : F.sides)
-      for (int v : side) {
+    lo = {1, 1}, hi = {0, 0};
+    if (length) *length = 0;
+    for (const auto& rim_side : F.sides) {
+      std::array<double, 2> previous{};
+      bool first = true;
+      for (int v : rim_side) {
         const auto& q = L.points[v];
         const Eigen::Vector3d r(q[0], q[1], q[2]);
         double st[2] = {0.5, 0.5};
@@ -169,50 +191,142 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
           if (step.norm() < 1e-12) break;
         }
         const double s0 = std::clamp(st[0], 0.0, 1.0), t0 = std::clamp(st[1], 0.0, 1.0);
+        std::array<double, 2> here{};
         for (int b = 0; b < 2; ++b) {
           const int ax = b == 0 ? a1 : a2;
           const double x = (1 - s0) * (1 - t0) * C[0][ax] + s0 * (1 - t0) * C[1][ax] + s0 * t0 * C[2][ax] + (1 - s0) * t0 * C[3][ax];
           lo[b] = std::min(lo[b], x), hi[b] = std::max(hi[b], x);
+          here[static_cast<std::size_t>(b)] = x;
         }
+        if (length && !first) *length += std::hypot(here[0] - previous[0], here[1] - previous[1]);
+        previous = here, first = false;
       }
-    for (int b = 0; b < 2; ++b) centre[b] += (lo[b] + hi[b]) / 4, extent[b] += (hi[b] - lo[b]) / 2;
-  }
-  const double width = std::clamp(outer > 0 ? rim / outer : 0.5, 0.1, 0.5);
-  const double mean_extent = (extent[0] + extent[1]) / 2;
-  m.hole_lo[m.axis] = 0.0, m.hole_hi[m.axis] = 1.0;
-  for (int b = 0; b < 2; ++b) {
-    const int a = b == 0 ? a1 : a2;
-    const double w = std::clamp(mean_extent > 0 ? width * extent[b] / mean_extent : width, 0.1, 0.5);
-    const double c = std::clamp(centre[b], 0.25 + w / 2, 0.75 - w / 2);
-    m.hole_lo[a] = c - w / 2, m.hole_hi[a] = c + w / 2;
-  }
-  // Rim corners: matched to the holed face's corners by the cyclic correspondence nearest in space,
-  // then put at the hole box's corner beside their face corner.
-  for (int i = 0; i < 2; ++i) {
-    const auto& O = L.patches[static_cast<std::size_t>(holed[i])].corners;
-    const auto& R = L.patches[static_cast<std::size_t>(fills[i])].corners;
-    double best = std::numeric_limits<double>::infinity();
-    std::array<int, 4> match{};
-    // The fill and the holed face hold the fill triangles alike, so their corners turn the same
-    // way: only the cyclic shift is free.
-    for (int shift = 0; shift < 4; ++shift) {
-      double cost = 0;
-      std::array<int, 4> s{};
+    }
+  };
+  if (nh == 1) {
+    // One hole: its mean width (relative to the cube) is the ratio of the rims' length to the
+    // faces' (at most 0.5: the T-mesh's pillow, one element of 1/10 at the default level, needs
+    // room beside it); its centre and aspect follow the rims' extents in their faces, the two faces'
+    // averaged. The box keeps 0.25 from the cube's sides (measured in session 5: a column 0.225
+    // wide left the pillow's frusta 0.025 wide and the worst elements there).
+    HoleBox& H = m.holes[0];
+    double rim = 0, outer = 0;
+    std::array<double, 2> centre{0, 0}, extent{0, 0};
+    for (int i = 0; i < 2; ++i) {
+      const auto& P = L.patches[static_cast<std::size_t>(holed[0][i])];
+      const auto& F = L.patches[static_cast<std::size_t>(fills[0][i])];
       for (int k = 0; k < 4; ++k) {
-        s[k] = (shift + k) % 4;
-        const double e = dist(L.points[R[k]], L.points[O[s[k]]]);
-        cost += e * e;
+        rim += chain_length(L, F.sides[k]);
+        outer += chain_length(L, P.sides[k]);
       }
-      if (cost < best) best = cost, match = s;
+      std::array<double, 2> lo{1, 1}, hi{0, 0};
+      rim_extent(holed[0][i], fills[0][i], lo, hi);
+      for (int b = 0; b < 2; ++b) centre[b] += (lo[b] + hi[b]) / 4, extent[b] += (hi[b] - lo[b]) / 2;
     }
-    for (int k = 0; k < 4; ++k) {
-      Vec3 p = corner_point(O[match[k]], holed[i]);
-      for (int a = 0; a < 3; ++a)
-        if (a != m.axis) p[a] = p[a] > 0.5 ? m.hole_hi[a] : m.hole_lo[a];
-      if (!corner_at.emplace(R[k], p).second)
-        throw core::TopologyError("polycube: rim corner " + std::to_string(R[k]) + " is also a corner of the cube");
+    const double width = std::clamp(outer > 0 ? rim / outer : 0.5, 0.1, 0.5);
+    const double mean_extent = (extent[0] + extent[1]) / 2;
+    H.lo[m.axis] = 0.0, H.hi[m.axis] = 1.0;
+    for (int b = 0; b < 2; ++b) {
+      const int a = b == 0 ? a1 : a2;
+      const double w = std::clamp(mean_extent > 0 ? width * extent[b] / mean_extent : width, 0.1, 0.5);
+      const double c = std::clamp(centre[b], 0.25 + w / 2, 0.75 - w / 2);
+      H.lo[a] = c - w / 2, H.hi[a] = c + w / 2;
     }
+  } else {
+    // Several holes: each box is its rims' extent, the two faces' averaged (no margin: the holes'
+    // sizes and spacing are the shape's), shrunk about its centre to the rims' length: a round
+    // rim's bounding square puts the rim's diagonal points 1.41 radii out where the surface around
+    // has no room (the plate: 10 flipped triangles at the boxes' corners, 52 flipped tets after
+    // untangling); the square of the rim's perimeter moves them 1.11 radii out and its sides in.
+    // Coordinates within 1e-6 of each other across an axis become equal (their mean): aligned
+    // holes share the T-mesh's grid lines, and the structure refuses coordinates that almost
+    // coincide.
+    for (std::size_t h = 0; h < nh; ++h) {
+      HoleBox& H = m.holes[h];
+      std::array<double, 2> lo{0, 0}, hi{0, 0};
+      double length = 0;
+      for (int i = 0; i < 2; ++i) {
+        std::array<double, 2> l{1, 1}, u{0, 0};
+        double rim = 0;
+        rim_extent(holed[h][i], fills[h][i], l, u, &rim);
+        for (int b = 0; b < 2; ++b) lo[b] += l[b] / 2, hi[b] += u[b] / 2;
+        length += rim / 2;
+      }
+      const double box = 2 * ((hi[0] - lo[0]) + (hi[1] - lo[1]));
+      const double shrink = std::clamp(box > 0 ? length / box : 1.0, 0.5, 1.0);
+      for (int b = 0; b < 2; ++b) {
+        const double c = (lo[b] + hi[b]) / 2;
+        lo[b] = c - shrink * (c - lo[b]), hi[b] = c + shrink * (hi[b] - c);
+      }
+      H.lo[m.axis] = 0.0, H.hi[m.axis] = 1.0;
+      H.lo[a1] = lo[0], H.hi[a1] = hi[0], H.lo[a2] = lo[1], H.hi[a2] = hi[1];
+    }
+    for (const int a : {a1, a2}) {
+      std::vector<double*> xs;
+      for (auto& H : m.holes) xs.push_back(&H.lo[a]), xs.push_back(&H.hi[a]);
+      std::stable_sort(xs.begin(), xs.end(), [](const double* x, const double* y) { return *x < *y; });
+      for (std::size_t i = 0; i < xs.size();) {
+        std::size_t j = i + 1;
+        while (j < xs.size() && *xs[j] - *xs[j - 1] <= 1e-6) ++j;
+        if (j - i > 1) {
+          double mean = 0;
+          for (std::size_t k = i; k < j; ++k) mean += *xs[k];
+          mean /= static_cast<double>(j - i);
+          for (std::size_t k = i; k < j; ++k) *xs[k] = mean;
+        }
+        i = j;
+      }
+    }
+    auto box_text = [&](std::size_t h) {
+      const HoleBox& H = m.holes[h];
+      return "[" + std::to_string(H.lo[a1]) + ", " + std::to_string(H.hi[a1]) + "] x [" + std::to_string(H.lo[a2]) + ", " +
+             std::to_string(H.hi[a2]) + "] across the holes' axis";
+    };
+    for (std::size_t h = 0; h < nh; ++h) {
+      const HoleBox& H = m.holes[h];
+      for (const int a : {a1, a2})
+        if (!(H.lo[a] >= 1e-3 && H.hi[a] <= 1 - 1e-3 && H.lo[a] < H.hi[a]))
+          throw core::TopologyError("polycube: the box of " + hole_name(h) + ", " + box_text(h) + ", is empty or within 1e-3 of the cube's sides");
+    }
+    for (std::size_t h = 0; h < nh; ++h)
+      for (std::size_t g = h + 1; g < nh; ++g) {
+        bool apart = false;
+        for (const int a : {a1, a2}) apart = apart || m.holes[h].hi[a] < m.holes[g].lo[a] || m.holes[g].hi[a] < m.holes[h].lo[a];
+        if (!apart)
+          throw core::TopologyError("polycube: the boxes of " + hole_name(h) + ", " + box_text(h) + ", and " + hole_name(g) + ", " + box_text(g) +
+                                    ", overlap or touch");
+      }
   }
+  // Rim corners: matched to the holed face's corners by the cyclic correspondence nearest in space
+  // (translation-invariant: an off-centre hole matches alike), then put at the corner of their
+  // hole's box beside their face corner.
+  for (std::size_t h = 0; h < nh; ++h)
+    for (int i = 0; i < 2; ++i) {
+      const auto& O = L.patches[static_cast<std::size_t>(holed[h][i])].corners;
+      const auto& R = L.patches[static_cast<std::size_t>(fills[h][i])].corners;
+      double best = std::numeric_limits<double>::infinity();
+      std::array<int, 4> match{};
+      // The fill and the holed face hold the fill triangles alike, so their corners turn the same
+      // way: only the cyclic shift is free.
+      for (int shift = 0; shift < 4; ++shift) {
+        double cost = 0;
+        std::array<int, 4> s{};
+        for (int k = 0; k < 4; ++k) {
+          s[k] = (shift + k) % 4;
+          const double e = dist(L.points[R[k]], L.points[O[s[k]]]);
+          cost += e * e;
+        }
+        if (cost < best) best = cost, match = s;
+      }
+      for (int k = 0; k < 4; ++k) {
+        Vec3 p = corner_point(O[match[k]], holed[h][i]);
+        for (int a = 0; a < 3; ++a)
+          if (a != m.axis) p[a] = p[a] > 0.5 ? m.holes[h].hi[a] : m.holes[h].lo[a];
+        if (!corner_at.emplace(R[k], p).second)
+          throw core::TopologyError("polycube: rim corner " + std::to_string(R[k]) + " of " + hole_name(h) +
+                                    " is also a corner of the cube or of another rim");
+      }
+    }
 
   // Every patch but the holed faces and the fills: its square, bilinearly onto its face.
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -224,31 +338,43 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
     if (!std::isnan(slot[0])) m.max_mismatch = std::max(m.max_mismatch, dist(slot, y));
     slot = y;
   };
+  std::set<int> skip(holed[0].begin(), holed[0].end());
+  for (const auto& f : fills) skip.insert(f.begin(), f.end());
   std::vector<int> placed;
-  for (const auto* comp : {&cube, &hole})
-    for (int p : comp->patches)
-      if (p != holed[0] && p != holed[1] && p != fills[0] && p != fills[1]) placed.push_back(p);
+  for (int p : cube.patches)
+    if (!skip.count(p)) placed.push_back(p);
+  for (const auto& H : m.holes)
+    for (int p : d.components[static_cast<std::size_t>(H.virtual_component)].patches)
+      if (!skip.count(p)) placed.push_back(p);
+  // Several holes: a patch's points on its face's plane exactly (the bilinear sum can miss it by
+  // an ulp: 1 + 2e-16 on the plate). One hole keeps the plain sum, so that its maps stay bitwise
+  // what they were.
+  const bool exact_planes = nh > 1;
   for (int p : placed) {
     const auto& P = L.patches[static_cast<std::size_t>(p)];
     std::array<Vec3, 4> X;
     for (int k = 0; k < 4; ++k) X[k] = corner_point(P.corners[k], p);
     if (face_of(X) < 0)
       throw core::TopologyError("polycube: the corners of patch " + std::to_string(p) +
-                                " are not those of one face of the cube or of the hole (the hole's walls do not join the rims straight through)");
+                                " are not those of one face of the cube or of a hole (the hole's walls do not join the rims straight through)");
     const PatchMap& pm = maps[static_cast<std::size_t>(p)];
     for (std::size_t i = 0; i < pm.vertices.size(); ++i) {
       const double s = pm.st[i][0], t = pm.st[i][1];
       Vec3 y{};
-      for (int a = 0; a < 3; ++a) y[a] = (1 - s) * (1 - t) * X[0][a] + s * (1 - t) * X[1][a] + s * t * X[2][a] + (1 - s) * t * X[3][a];
+      for (int a = 0; a < 3; ++a)
+        y[a] = exact_planes && X[0][a] == X[1][a] && X[0][a] == X[2][a] && X[0][a] == X[3][a]
+                   ? X[0][a]
+                   : (1 - s) * (1 - t) * X[0][a] + s * (1 - t) * X[1][a] + s * t * X[2][a] + (1 - s) * t * X[3][a];
       put(pm.vertices[i], y);
     }
     m.flipped_surface_triangles += pm.flipped_triangles;
     m.max_angle_distortion_deg = std::max(m.max_angle_distortion_deg, pm.max_angle_distortion_deg);
   }
-  // The holed faces: annuli between the face's sides and the rim, both placed above.
+  // The holed faces: each face minus its fills, between the face's sides and its k rims, all
+  // placed above.
   for (int i = 0; i < 2; ++i) {
     std::vector<int> tris;
-    for (int t : L.patches[static_cast<std::size_t>(holed[i])].triangles)
+    for (int t : L.patches[static_cast<std::size_t>(holed[0][i])].triangles)
       if (!L.filled[static_cast<std::size_t>(t)]) tris.push_back(t);
     std::map<int, std::array<double, 2>> fixed;
     for (int t : tris)
@@ -256,11 +382,11 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
         const Vec3& x = pts[static_cast<std::size_t>(v)];  // v < solid_vertices: a triangle that is not a fill
         if (!std::isnan(x[0])) fixed[v] = {x[a1], x[a2]};
       }
-    const auto at = harmonic_positions(L, tris, fixed, params, "holed patch " + std::to_string(holed[i]));
+    const auto at = harmonic_positions(L, tris, fixed, params, "holed patch " + std::to_string(holed[0][i]));
     for (const auto& [v, x] : at) {
       if (fixed.count(v)) continue;
       Vec3 y{};
-      y[m.axis] = side[i][m.axis], y[a1] = x[0], y[a2] = x[1];
+      y[m.axis] = side[0][i][m.axis], y[a1] = x[0], y[a2] = x[1];
       put(v, y);
     }
     const MapQuality q = map_quality(L, tris, at);
@@ -270,12 +396,11 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
   for (std::size_t v = 0; v < pts.size(); ++v)
     if (std::isnan(pts[v][0])) throw core::TopologyError("polycube: vertex " + std::to_string(v) + " of the solid lies on no patch of the difference");
 
-  // Mirror (swap the two axes across the hole) if the frame came out left-handed.
+  // Mirror (swap the two axes across the holes) if the frame came out left-handed.
   if (layout_volume(L, pts, Fills::skip) < 0) {
     m.mirrored = true;
     for (auto& p : pts) std::swap(p[a1], p[a2]);
-    std::swap(m.hole_lo[a1], m.hole_lo[a2]);
-    std::swap(m.hole_hi[a1], m.hole_hi[a2]);
+    for (auto& H : m.holes) std::swap(H.lo[a1], H.lo[a2]), std::swap(H.hi[a1], H.hi[a2]);
   }
   m.points = std::move(pts);
   return m;
@@ -310,28 +435,51 @@ volmap::VolumeMap difference_volume_map(const split::Decomposition& d, const Dif
 core::Json to_json(const DifferenceMap& m) {
   std::vector<double> pts;
   for (const auto& p : m.points) pts.insert(pts.end(), p.begin(), p.end());
-  return core::Json{{"kind", "difference"},
-                    {"cube", m.cube},
-                    {"virtual_component", m.virtual_component},
-                    {"axis", m.axis},
-                    {"hole_lo", m.hole_lo},
-                    {"hole_hi", m.hole_hi},
-                    {"mirrored", m.mirrored},
-                    {"solid_vertices", m.solid_vertices},
-                    {"points", pts},
-                    {"flipped_surface_triangles", m.flipped_surface_triangles},
-                    {"max_angle_distortion_deg", m.max_angle_distortion_deg},
-                    {"max_mismatch", m.max_mismatch}};
+  core::Json j{{"kind", "difference"},
+               {"cube", m.cube},
+               {"axis", m.axis},
+               {"mirrored", m.mirrored},
+               {"solid_vertices", m.solid_vertices},
+               {"points", pts},
+               {"flipped_surface_triangles", m.flipped_surface_triangles},
+               {"max_angle_distortion_deg", m.max_angle_distortion_deg},
+               {"max_mismatch", m.max_mismatch}};
+  if (m.holes.size() == 1) {  // the one-hole format, as before several holes were mapped
+    j["virtual_component"] = m.holes[0].virtual_component;
+    j["hole_lo"] = m.holes[0].lo;
+    j["hole_hi"] = m.holes[0].hi;
+  } else {
+    core::Json holes = core::Json::array();
+    for (const auto& h : m.holes) holes.push_back({{"virtual_component", h.virtual_component}, {"hole_lo", h.lo}, {"hole_hi", h.hi}});
+    j["holes"] = std::move(holes);
+  }
+  return j;
 }
 
 DifferenceMap difference_from_json(const core::Json& j, const std::string& file) {
   DifferenceMap m;
   try {
     m.cube = core::require(j, "cube", file).get<int>();
-    m.virtual_component = core::require(j, "virtual_component", file).get<int>();
     m.axis = core::require(j, "axis", file).get<int>();
-    m.hole_lo = core::require(j, "hole_lo", file).get<std::array<double, 3>>();
-    m.hole_hi = core::require(j, "hole_hi", file).get<std::array<double, 3>>();
+    auto hole = [&](const core::Json& h) {
+      HoleBox b;
+      b.virtual_component = core::require(h, "virtual_component", file).get<int>();
+      b.lo = core::require(h, "hole_lo", file).get<std::array<double, 3>>();
+      b.hi = core::require(h, "hole_hi", file).get<std::array<double, 3>>();
+      return b;
+    };
+    if (j.contains("holes")) {
+      if (j.contains("virtual_component") || j.contains("hole_lo") || j.contains("hole_hi"))
+        throw core::InvalidInputError(file + ": polycube has both holes and the one-hole virtual_component/hole_lo/hole_hi; give one form");
+      const core::Json& hs = j["holes"];
+      if (!hs.is_array() || hs.empty()) throw core::InvalidInputError(file + ": polycube.holes must be a non-empty array");
+      for (const auto& h : hs) {
+        if (!h.is_object()) throw core::InvalidInputError(file + ": polycube.holes holds a member that is not an object");
+        m.holes.push_back(hole(h));
+      }
+    } else {
+      m.holes.push_back(hole(j));
+    }
     m.mirrored = core::require(j, "mirrored", file).get<bool>();
     m.solid_vertices = core::require(j, "solid_vertices", file).get<int>();
     const auto pts = core::require(j, "points", file).get<std::vector<double>>();
@@ -345,10 +493,25 @@ DifferenceMap difference_from_json(const core::Json& j, const std::string& file)
     throw core::InvalidInputError(file + ": malformed difference polycube: " + x.what());
   }
   if (m.axis < 0 || m.axis > 2) throw core::InvalidInputError(file + ": polycube.axis must be 0, 1 or 2");
-  for (int a = 0; a < 3; ++a)
-    if (!(m.hole_lo[a] >= 0 && m.hole_lo[a] < m.hole_hi[a] && m.hole_hi[a] <= 1) || (a == m.axis && (m.hole_lo[a] != 0 || m.hole_hi[a] != 1)) ||
-        (a != m.axis && (m.hole_lo[a] <= 0 || m.hole_hi[a] >= 1)))
-      throw core::InvalidInputError(file + ": polycube.hole_lo/hole_hi is not a box through the unit cube along its axis");
+  const bool one = m.holes.size() == 1;
+  for (std::size_t h = 0; h < m.holes.size(); ++h) {
+    const HoleBox& H = m.holes[h];
+    const std::string name = one ? "polycube.hole_lo/hole_hi" : "polycube.holes[" + std::to_string(h) + "]";
+    for (int a = 0; a < 3; ++a)
+      if (!(H.lo[a] >= 0 && H.lo[a] < H.hi[a] && H.hi[a] <= 1) || (a == m.axis && (H.lo[a] != 0 || H.hi[a] != 1)) ||
+          (a != m.axis && (H.lo[a] <= 0 || H.hi[a] >= 1)))
+        throw core::InvalidInputError(file + ": " + name + " is not a box through the unit cube along its axis");
+    for (std::size_t g = 0; g < h; ++g) {
+      const HoleBox& G = m.holes[g];
+      if (G.virtual_component == H.virtual_component)
+        throw core::InvalidInputError(file + ": polycube.holes[" + std::to_string(g) + "] and [" + std::to_string(h) + "] are the same virtual component " +
+                                      std::to_string(H.virtual_component));
+      bool apart = false;
+      for (int a = 0; a < 3; ++a) apart = apart || (a != m.axis && (H.hi[a] < G.lo[a] || G.hi[a] < H.lo[a]));
+      if (!apart)
+        throw core::InvalidInputError(file + ": the boxes polycube.holes[" + std::to_string(g) + "] and [" + std::to_string(h) + "] overlap or touch");
+    }
+  }
   for (const auto& p : m.points)
     for (double x : p)
       if (!std::isfinite(x)) throw core::InvalidInputError(file + ": polycube.points holds a non-finite value");
