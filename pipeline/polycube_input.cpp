@@ -27,6 +27,19 @@ namespace volts::pipeline {
 
 namespace {
 
+// The length of the path at(t), t from a to b, as a polyline of 16 pieces.
+template <class At>
+double path_length(const At& at, double a, double b) {
+  tmesh::Vec3 p = at(a);
+  double l = 0;
+  for (int i = 1; i <= 16; ++i) {
+    const tmesh::Vec3 q = at(a + (b - a) * i / 16.0);
+    l += std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]));
+    p = q;
+  }
+  return l;
+}
+
 // The surface map of a ring on its round faces, evaluated where it is defined: the surface
 // triangles in the developed coordinates of each face (A = cube index + a around the ring, and b
 // or c across), where they tile the face exactly and are affine images of the patch maps. The
@@ -554,14 +567,7 @@ tmesh::PolycubeMaps connector_maps(const std::string& in, std::vector<Ring> list
           if (!p) throw core::NumericalError(in + ": a point of the connector lies outside its volume map");
           return *p;
         };
-        tmesh::Vec3 a = at(0);
-        double l = 0;
-        for (int i = 1; i <= 16; ++i) {
-          const tmesh::Vec3 b = at(i / 16.0);
-          l += std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
-          a = b;
-        }
-        length[static_cast<std::size_t>(c)][static_cast<std::size_t>(d)] = l;
+        length[static_cast<std::size_t>(c)][static_cast<std::size_t>(d)] = path_length(at, 0.0, 1.0);
       }
     m.blocks = tmesh::complex_blocks(*complex, std::vector<std::array<int, 3>>(complex->glue.size(), {n, n, n}), params.pillow_layers,
                                      tmesh::physical_pillow(*complex, n, params.pillow_layers, length));
@@ -587,8 +593,8 @@ tmesh::PolycubeMaps connector_maps(const std::string& in, std::vector<Ring> list
   return m;
 }
 
-// The mean length in the solid of the cube's four edges along each axis (polylines of 16 pieces,
-// 1e-3 inside the cube so that every point lies in a tet of the volume map).
+// The mean length in the solid of the cube's four edges along each axis (1e-3 inside the cube so
+// that every point lies in a tet of the volume map).
 std::array<double, 3> cube_side_lengths(const volmap::Locator& locate, const std::string& in) {
   std::array<double, 3> out{};
   const double e = 1e-3;
@@ -604,12 +610,7 @@ std::array<double, 3> cube_side_lengths(const volmap::Locator& locate, const std
           if (!p) throw core::NumericalError(in + ": a point of the cube's edge lies outside the volume map");
           return *p;
         };
-        tmesh::Vec3 a = at(e);
-        for (int i = 1; i <= 16; ++i) {
-          const tmesh::Vec3 b = at(e + (1 - 2 * e) * i / 16.0);
-          sum += std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
-          a = b;
-        }
+        sum += path_length(at, e, 1 - e);
       }
     out[static_cast<std::size_t>(d)] = sum / 4;
   }
