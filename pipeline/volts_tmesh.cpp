@@ -68,6 +68,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     op.joint_rounds = ctx.config.tmesh.joint_rounds;
     op.cycles = ctx.config.tmesh.optimize_cycles;
     op.trilinear_sweeps = ctx.config.tmesh.trilinear_sweeps;
+    op.trilinear_guard = ctx.config.tmesh.trilinear_guard;
     op.joint_evaluations = ctx.config.tmesh.joint_evaluations;
     op.joint_sharpness = ctx.config.tmesh.joint_sharpness;
     op.joint_window = ctx.config.tmesh.joint_window;

@@ -227,6 +227,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("joint_rounds", c.tmesh.joint_rounds, 0, 100);
     s.get("optimize_cycles", c.tmesh.optimize_cycles, 1, 100);
     s.get("trilinear_sweeps", c.tmesh.trilinear_sweeps, 0, 100);
+    s.get("trilinear_guard", c.tmesh.trilinear_guard);
     s.get("joint_evaluations", c.tmesh.joint_evaluations, 1, 100000);
     s.get("joint_sharpness", c.tmesh.joint_sharpness, 1e-3, 1000.0);
     s.get("joint_window", c.tmesh.joint_window, 0.0, 1.0);
@@ -404,6 +405,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "joint_rounds" << YAML::Value << c.tmesh.joint_rounds;
   e << YAML::Key << "optimize_cycles" << YAML::Value << c.tmesh.optimize_cycles;
   e << YAML::Key << "trilinear_sweeps" << YAML::Value << c.tmesh.trilinear_sweeps;
+  e << YAML::Key << "trilinear_guard" << YAML::Value << c.tmesh.trilinear_guard;
   e << YAML::Key << "joint_evaluations" << YAML::Value << c.tmesh.joint_evaluations;
   e << YAML::Key << "joint_sharpness" << YAML::Value << c.tmesh.joint_sharpness;
   e << YAML::Key << "joint_window" << YAML::Value << c.tmesh.joint_window;

@@ -318,8 +318,9 @@ class AffineSamples {
 };
 
 struct Quality {
-  double scaled = 0;  // sampled min scaled Jacobian
-  bool valid = false;  // certified det J > 0
+  double scaled = 0;     // sampled min scaled Jacobian
+  bool valid = false;    // certified det J > 0
+  double trilinear = 1;  // scaled Jacobian of the hex of its corner points (eq. (1)–(2))
 };
 
 // The interior nodes (global ids) of element e not yet in `visited`, added to it: a node is
@@ -363,6 +364,13 @@ double corner_hex_scaled_jacobian(const bezier::BezierHex& h) {
   }
   return trilinear_min_scaled_jacobian(x);
 }
+
+// OptimizeParams::trilinear_guard: a Bézier move may not take an element's corner hex below
+// the trilinear target, nor deeper where it already is below.
+bool trilinear_falls(const OptimizeParams& params, const Quality& before, const Quality& now) {
+  return params.trilinear_guard && before.valid && now.trilinear < std::min(before.trilinear, 0.0) - 1e-12;
+}
+
 
 // The trilinear pass (OptimizeParams::trilinear_sweeps): after the Bézier sweeps, so that a
 // move is judged against their result (its elements' sampled figures stay at or above the worst
@@ -432,6 +440,7 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
         }
         for (std::size_t k = 0; k < els.size(); ++k) {
           const auto x = static_cast<std::size_t>(els[k]);
+          now[k].trilinear = corner[k];
           q[x] = now[k], samples[x] = std::move(js[k]), tri[x] = corner[k];
         }
         ++moved;
@@ -443,6 +452,15 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
               std::to_string(r.trilinear_after));
     if (moved == 0) break;
   }
+  // Where the worst one is, for a user looking at tmesh.vtu (cell = element index).
+  const std::size_t w = static_cast<std::size_t>(std::min_element(tri.begin(), tri.end()) - tri.begin());
+  const bezier::BezierHex h = s.hex(w);
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const int i : {0, h.degree[0]})
+    for (const int j : {0, h.degree[1]})
+      for (const int k : {0, h.degree[2]}) c += h.points[static_cast<std::size_t>(h.index(i, j, k))] / 8.0;
+  core::log("worst trilinear element: " + std::to_string(w) + " (block " + std::to_string(s.block_of(w)) + ", centre " + std::to_string(c.x()) + ", " +
+            std::to_string(c.y()) + ", " + std::to_string(c.z()) + "): " + std::to_string(tri[w]));
 }
 
 // Bernstein values and derivatives of one degree at abscissae t (the same on the three axes).
@@ -607,6 +625,44 @@ bool slide_frame(const Spline& s, const SlideSurface& surface, int id, bool curv
   return true;
 }
 
+// In the joint rounds' soft minimum a corner hex's scaled Jacobian t below the trilinear target
+// counts as target + kTrilinearWeight (t - trilinear target): a fold weighs like a Bézier figure
+// ten times as far below the target, so where the Bézier worst balances at 0.4 the corner hexes
+// balance near +0.04 (with the default targets 0.5 and 0.05), not below zero.
+constexpr double kTrilinearWeight = 10.0;
+
+struct TriSample {
+  double value = 0;               // in the soft minimum's units (above)
+  Eigen::Matrix3d G;              // ∂(scaled Jacobian)/∂J, J's columns = neighbour - corner
+  std::size_t corner = 0;         // Bézier point indices of the element
+  std::array<std::size_t, 3> neighbour{};
+};
+
+// The corner-hex samples of an element (Bézier points `x`, degree p) below the trilinear target.
+void tri_samples(const std::vector<Eigen::Vector3d>& x, int p, const OptimizeParams& params, std::vector<TriSample>& out) {
+  out.clear();
+  if (!params.trilinear_guard) return;
+  const std::size_t n = static_cast<std::size_t>(p) + 1;
+  auto at = [n](std::size_t i, std::size_t j, std::size_t k) { return i + n * (j + n * k); };
+  const std::size_t m = n - 1;
+  // VTK hexahedron order, each corner with its three edge neighbours, right-handed (tmesh.cpp).
+  const std::array<std::size_t, 8> v = {at(0, 0, 0), at(m, 0, 0), at(m, m, 0), at(0, m, 0), at(0, 0, m), at(m, 0, m), at(m, m, m), at(0, m, m)};
+  static const int nb[8][3] = {{1, 3, 4}, {2, 0, 5}, {3, 1, 6}, {0, 2, 7}, {7, 5, 0}, {4, 6, 1}, {5, 7, 2}, {6, 4, 3}};
+  for (int c = 0; c < 8; ++c) {
+    TriSample t;
+    t.corner = v[static_cast<std::size_t>(c)];
+    Eigen::Matrix3d J;
+    for (int e = 0; e < 3; ++e) {
+      t.neighbour[static_cast<std::size_t>(e)] = v[static_cast<std::size_t>(nb[c][e])];
+      J.col(e) = x[t.neighbour[static_cast<std::size_t>(e)]] - x[t.corner];
+    }
+    const double sj = scaled_jacobian_gradient(J, t.G);
+    if (!(sj < params.trilinear_target)) continue;
+    t.value = params.target + kTrilinearWeight * (sj - params.trilinear_target);
+    out.push_back(t);
+  }
+}
+
 // The joint phase (OptimizeParams::joint_rounds): the interior nodes of the elements below the
 // target move together, by NLopt's L-BFGS on a smooth soft minimum of the scaled Jacobian over
 // the samples of every element they support,
@@ -633,8 +689,11 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       for (const Quality& x : q) lowest = std::min(lowest, x.scaled);
       select = std::min(select, lowest + window);
     }
+    // Corner hexes count once every element is certified valid (validity first: with the folds
+    // of the start in the objective, the rod's joint rounds left 108 elements not valid).
+    const bool with_tri = params.trilinear_guard && std::all_of(q.begin(), q.end(), [](const Quality& x) { return x.valid; });
     for (std::size_t e = 0; e < s.size(); ++e) {
-      if (q[e].valid && q[e].scaled >= select) continue;
+      if (q[e].valid && q[e].scaled >= select && !(with_tri && q[e].trilinear < params.trilinear_target)) continue;
       for (const int local : s.points_of(e)) {
         const int id = s.id_of(s.block_of(e), local);
         if (static_cast<std::size_t>(id) >= var_of.size()) var_of.resize(static_cast<std::size_t>(id) + 1, -1);
@@ -670,7 +729,11 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     }
     double before = std::numeric_limits<double>::infinity();
     int invalid_before = 0;
-    for (const int e : els) before = std::min(before, q[static_cast<std::size_t>(e)].scaled), invalid_before += q[static_cast<std::size_t>(e)].valid ? 0 : 1;
+    double tri_before = std::numeric_limits<double>::infinity();
+    for (const int e : els) {
+      before = std::min(before, q[static_cast<std::size_t>(e)].scaled), invalid_before += q[static_cast<std::size_t>(e)].valid ? 0 : 1;
+      tri_before = std::min(tri_before, q[static_cast<std::size_t>(e)].trilinear);
+    }
     std::vector<double> x0(first.back() + width(frame.back())), lower(x0.size()), upper(x0.size());
     for (std::size_t v = 0; v < ids.size(); ++v) {
       if (frame[v].dims > 0) {  // tangent coordinates, 0 at the start
@@ -710,6 +773,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     // Per element: its samples' scaled Jacobians and their gradients (one degree per run of
     // blocks is the common case; the table is per degree).
     std::vector<std::vector<double>> sj(els.size());
+    std::vector<std::vector<TriSample>> tri(els.size());  // corner-hex samples below the trilinear target (trilinear_guard)
     std::vector<std::vector<Eigen::Matrix3d>> dsj(els.size());
     std::vector<std::vector<Eigen::Vector3d>> dP(els.size());
     // Sample grids per degree, the usual ones and the dense one of elements not certified valid.
@@ -722,7 +786,12 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       if (it == grids.end()) it = grids.emplace(key, joint_grids(key.first, params.gauss_points, key.second ? params.joint_dense_points : 0)).first;
       grids_of[k] = &it->second;
     }
-    const double beta = params.joint_sharpness;
+    // A narrowed round's elements lie within `window` of each other: at the configured sharpness
+    // their weights are nearly equal (β·window = 0.5 at 0.0125), so the round raises their mean and
+    // the worst one falls back (refused). Sharpen so that the window spans at least
+    // kWindowSpan in the exponent (the defaults' 40 × 0.1 at the first narrowing).
+    constexpr double kWindowSpan = 4.0;
+    const double beta = window > 0 ? std::max(params.joint_sharpness, kWindowSpan / window) : params.joint_sharpness;
     int evaluations = 0;
     std::vector<double> reached;  // the first point whose samples are all at the target
     auto objective = [&](const std::vector<double>& x, std::vector<double>& grad) {
@@ -737,14 +806,19 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         for (const GridAxis& g : *grids_of[k]) grid_jacobians(points, g, J);
         sj[k].resize(J.size());
         for (std::size_t i = 0; i < J.size(); ++i) sj[k][i] = bezier::scaled_jacobian(J[i]);
+        if (with_tri) tri_samples(points, s.degree_of(e), params, tri[k]);
       });
       // The soft minimum, its sums per element on the pool (added in order: reproducible).
       std::vector<double> local_min(els.size()), local_sum(els.size());
-      pool.for_each(els.size(), [&](std::size_t k) { local_min[k] = *std::min_element(sj[k].begin(), sj[k].end()); });
+      pool.for_each(els.size(), [&](std::size_t k) {
+        local_min[k] = *std::min_element(sj[k].begin(), sj[k].end());
+        for (const TriSample& t : tri[k]) local_min[k] = std::min(local_min[k], t.value);
+      });
       const double lo = *std::min_element(local_min.begin(), local_min.end());
       pool.for_each(els.size(), [&](std::size_t k) {
         double z = 0;
         for (const double x1 : sj[k]) z += std::exp(-beta * (x1 - lo));
+        for (const TriSample& t : tri[k]) z += std::exp(-beta * (t.value - lo));
         local_sum[k] = z;
       });
       double Z = 0;
@@ -773,6 +847,13 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           for (const GridAxis& g : *grids_of[k]) {
             grid_pull_back(dsj[k], first, g, dP[k]);
             first += g.t.size() * g.t.size() * g.t.size();
+          }
+          for (const TriSample& t : tri[k]) {
+            const double w = std::exp(-beta * (t.value - lo)) / Z * kTrilinearWeight;
+            for (int c = 0; c < 3; ++c) {
+              dP[k][t.neighbour[static_cast<std::size_t>(c)]] += w * t.G.col(c);
+              dP[k][t.corner] -= w * t.G.col(c);
+            }
           }
           s.pull_back(e, dP[k]);
         });
@@ -829,7 +910,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       std::vector<double> y;  // the variables after the nodes went back
       std::vector<Quality> now;
       std::vector<std::vector<Eigen::Matrix3d>> js;
-      double worst = 0;
+      double worst = 0, tri = 0;
       int invalid = 0, reverted = 0;
     };
     auto try_step = [&](double alpha) {
@@ -851,7 +932,8 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           t.js[k] = bezier::jacobian_samples(h, params.gauss_points);
           t.now[k].scaled = bezier::summarize_jacobians(t.js[k]).min_scaled;
           t.now[k].valid = bezier::certify(h, cp).status == bezier::Validity::valid;
-          bad[i] = t.now[k].scaled < before || (q[e].valid && !t.now[k].valid);
+          t.now[k].trilinear = corner_hex_scaled_jacobian(h);
+          bad[i] = t.now[k].scaled < before || (q[e].valid && !t.now[k].valid) || trilinear_falls(params, q[e], t.now[k]);
         });
         for (std::size_t i = 0; i < todo.size(); ++i) {
           if (!bad[i]) continue;
@@ -868,17 +950,21 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           }
         }
       }
-      t.worst = std::numeric_limits<double>::infinity();
-      for (const auto& x1 : t.now) t.worst = std::min(t.worst, x1.scaled), t.invalid += x1.valid ? 0 : 1;
+      t.worst = t.tri = std::numeric_limits<double>::infinity();
+      for (const auto& x1 : t.now) t.worst = std::min(t.worst, x1.scaled), t.invalid += x1.valid ? 0 : 1, t.tri = std::min(t.tri, x1.trilinear);
       return t;
     };
     Step best = try_step(1.0);
     if (best.reverted > 0)
       for (const double alpha : {0.5, 0.25}) {
         Step t = try_step(alpha);
-        if (t.invalid < best.invalid || (t.invalid == best.invalid && t.worst > best.worst)) best = std::move(t);
+        if (t.invalid < best.invalid || (t.invalid == best.invalid && (t.worst > best.worst || (t.worst == best.worst && t.tri > best.tri))))
+          best = std::move(t);
       }
-    const bool accepted = best.worst > before + 1e-9 || best.invalid < invalid_before;
+    // With the trilinear guard, a round that only raises the worst corner hex (below the
+    // trilinear target) is kept too: no Bézier figure fell below the worst one (reverted above).
+    const bool tri_gain = with_tri && tri_before < params.trilinear_target && best.tri > tri_before + 1e-9 && best.worst >= before;
+    const bool accepted = best.worst > before + 1e-9 || best.invalid < invalid_before || tri_gain;
     const double after = accepted ? best.worst : before;
     const int invalid = accepted ? best.invalid : invalid_before, reverted = best.reverted;
     set_all(accepted ? best.y : x0, true);
@@ -905,7 +991,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     ++r.joint_rounds;
     refused_ids.clear();  // the nodes moved: the same selection is a new problem
     const bool progress = (invalid_before > 0 && invalid_before - invalid >= std::max(1.0, params.min_fixed_rel * invalid_before)) ||
-                          after >= before + params.min_gain;
+                          after >= before + params.min_gain || (tri_gain && best.tri >= tri_before + params.min_gain);
     if (!progress) return;
   }
 }
@@ -1040,6 +1126,11 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           const bezier::BezierHex hex = s.hex(x);
           js[k] = bezier::jacobian_samples(hex, params.gauss_points);
           now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
+          now[k].trilinear = corner_hex_scaled_jacobian(hex);
+          if (trilinear_falls(params, q[x], now[k])) {
+            refused = true;
+            return;
+          }
           double value = now[k].scaled;
           if (!q[x].valid) {
             const bezier::CertifyResult c = bezier::certify(hex, cp);
@@ -1107,6 +1198,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   if (!(params.min_gain >= 0 && params.min_gain <= 1) || !(params.min_fixed_rel >= 0 && params.min_fixed_rel <= 1) ||
       params.patience < 1 || params.patience > 100)
     throw core::ConfigError("tmesh optimization: min_gain and min_fixed_rel must be in [0, 1] and patience in [1, 100]");
+  if (!(params.cycle_min_gain >= 0 && params.cycle_min_gain <= 1))
+    throw core::ConfigError("tmesh optimization: cycle_min_gain must be in [0, 1], got " + std::to_string(params.cycle_min_gain));
   if (params.cycles < 1 || params.cycles > 100) throw core::ConfigError("tmesh.optimize_cycles must be in [1, 100], got " + std::to_string(params.cycles));
   if (params.trilinear_sweeps < 0 || params.trilinear_sweeps > 100 || !(params.trilinear_target >= -1 && params.trilinear_target <= 1))
     throw core::ConfigError("tmesh optimization: trilinear_sweeps must be in [0, 100] and trilinear_target in [-1, 1]");
@@ -1131,7 +1224,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   pool.for_each(s.size(), [&](std::size_t e) {
     const bezier::BezierHex h = s.hex(e);
     samples[e] = bezier::jacobian_samples(h, params.gauss_points);
-    q[e] = Quality{bezier::summarize_jacobians(samples[e]).min_scaled, bezier::certify(h, cp).status == bezier::Validity::valid};
+    q[e] = Quality{bezier::summarize_jacobians(samples[e]).min_scaled, bezier::certify(h, cp).status == bezier::Validity::valid,
+                   corner_hex_scaled_jacobian(h)};
   });
   auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
   summary(&r.min_before, &r.invalid_before);
@@ -1167,7 +1261,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
       core::log("cycle " + std::to_string(cycle + 1) + ": worst scaled Jacobian " + std::to_string(cycle_start) + " -> " + std::to_string(cycle_end) +
                 ", not certified valid " + std::to_string(cycle_invalid) + " -> " + std::to_string(cycle_invalid_end));
     if (r.stop_reason == "no_element_below_target" || r.stop_reason == "disabled") break;
-    if (cycle_invalid_end >= cycle_invalid && cycle_end < cycle_start + params.min_gain) break;
+    if (cycle_invalid_end >= cycle_invalid && cycle_end < cycle_start + params.cycle_min_gain) break;
   }
   if (r.stop_reason.empty()) {
     r.stop_reason = params.sweeps == 0 ? "disabled" : "sweep_bound";

@@ -97,6 +97,14 @@ struct OptimizeParams {
   /// rod (session 26): −0.063, −0.033, −0.018 after 3 passes, −0.013 after 20 (10–20 nodes moved
   /// in each): the rest is held by nodes the pass may not move.
   int trilinear_sweeps = 3;        ///< [0, 100]
+  /// Corner hexes in the Bézier passes, once every element is certified valid: the joint rounds
+  /// raise those below `trilinear_target` too (in the soft minimum a corner figure t counts as
+  /// target + 10 (t − trilinear_target), so it balances near +0.04 where the Bézier worst does at
+  /// 0.4), and no move of the joint rounds or sweeps takes a certified-valid element's corner hex
+  /// below min(its figure before, `trilinear_target`). Without it the rod (session 28) ended
+  /// with its Bézier worst at 0.400 and its corner hexes at −0.13: the trilinear pass that
+  /// follows may not lower any Bézier figure below the worst, so it could not unfold them.
+  bool trilinear_guard = true;
   double trilinear_target = 0.05;  ///< scaled Jacobian (dimensionless) [-1, 1]
   /// The joint rounds and the per-node sweeps alternate: once the sweeps stop, the joint rounds
   /// (sliding, given a surface) run again from where the sweeps left the nodes, then the sweeps,
@@ -106,6 +114,10 @@ struct OptimizeParams {
   /// figure by less than `min_gain`, or when no element is below the target. Measured on the rod
   /// (docs/status.md, session 26): 0.351 with one cycle, 0.387 with two, 0.399 with five. [1, 100]
   int cycles = 1;
+  /// A cycle that fixes no element stops the cycles if it raised the worst figure by less than
+  /// this (scaled Jacobian, [0, 1]). Smaller than `min_gain`: a late cycle costs a few seconds
+  /// and its narrowed rounds gain 1e-4–1e-3 (the rod, session 28: 0.3984 -> 0.3992 in cycle 4).
+  double cycle_min_gain = 1e-4;
 };
 
 struct OptimizeResult {

@@ -39,6 +39,9 @@ struct Params {
   /// Bound on passes of the trilinear pass after the Bézier optimization
   /// (OptimizeParams::trilinear_sweeps) [0, 100]; 0 = none.
   int trilinear_sweeps = 3;
+  /// The Bézier passes also look after the corner hexes once every element is certified valid
+  /// (OptimizeParams::trilinear_guard).
+  bool trilinear_guard = true;
   int joint_evaluations = 300;
   double joint_sharpness = 40;
   double joint_window = 0.1;

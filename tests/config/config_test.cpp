@@ -49,14 +49,16 @@ TEST(Config, JointOptimizationAndConnectorSmoothingKeys) {
   EXPECT_EQ(file.tmesh.optimize_cycles, 10);
   EXPECT_EQ(op.cycles, 1);
   EXPECT_EQ(file.tmesh.trilinear_sweeps, op.trilinear_sweeps);
+  EXPECT_EQ(file.tmesh.trilinear_guard, op.trilinear_guard);
   EXPECT_DOUBLE_EQ(file.polycube.connector_smooth_below_ratio, polycube::Params{}.connector_smooth_below_ratio);
   const auto c = config::parse_config(
-      "tmesh: {joint_rounds: 30, joint_evaluations: 250, joint_sharpness: 150, optimize_cycles: 3, trilinear_sweeps: 7}\npolycube: {connector_smooth_below_ratio: 0.5}\n", "t");
+      "tmesh: {joint_rounds: 30, joint_evaluations: 250, joint_sharpness: 150, optimize_cycles: 3, trilinear_sweeps: 7, trilinear_guard: false}\npolycube: {connector_smooth_below_ratio: 0.5}\n", "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");
   EXPECT_EQ(d.tmesh.joint_rounds, 30);
   EXPECT_EQ(d.tmesh.joint_evaluations, 250);
   EXPECT_EQ(d.tmesh.optimize_cycles, 3);
   EXPECT_EQ(d.tmesh.trilinear_sweeps, 7);
+  EXPECT_FALSE(d.tmesh.trilinear_guard);
   EXPECT_NE(config_error("tmesh: {optimize_cycles: 0}\n").find("tmesh.optimize_cycles: 0 is out of range [1, 100]"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {trilinear_sweeps: 101}\n").find("tmesh.trilinear_sweeps: 101 is out of range [0, 100]"), std::string::npos);
   EXPECT_DOUBLE_EQ(d.tmesh.joint_sharpness, 150);

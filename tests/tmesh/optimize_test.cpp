@@ -323,4 +323,8 @@ TEST(Optimize, ParametersOutOfRangeAreRefused) {
     j = {}, j.cycles = bad;
     EXPECT_THROW(tmesh::optimize(ts, j), core::ConfigError);
   }
+  for (const double bad : {-1e-4, 1.5}) {
+    j = {}, j.cycle_min_gain = bad;
+    EXPECT_THROW(tmesh::optimize(ts, j), core::ConfigError);
+  }
 }
