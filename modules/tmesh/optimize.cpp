@@ -365,10 +365,10 @@ double corner_hex_scaled_jacobian(const bezier::BezierHex& h) {
   return trilinear_min_scaled_jacobian(x);
 }
 
-// OptimizeParams::trilinear_guard: a Bézier move may not take an element's corner hex below
-// the trilinear target, nor deeper where it already is below.
+// OptimizeParams::trilinear_guard: a Bézier move may not fold the corner hex of a certified-valid
+// element that is not folded (folded ones are the objective's to raise).
 bool trilinear_falls(const OptimizeParams& params, const Quality& before, const Quality& now) {
-  return params.trilinear_guard && before.valid && now.trilinear < std::min(before.trilinear, 0.0) - 1e-12;
+  return params.trilinear_guard && before.valid && before.trilinear >= 0 && now.trilinear < 0;
 }
 
 

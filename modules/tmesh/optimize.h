@@ -70,8 +70,11 @@ struct OptimizeParams {
   /// When a round's step is refused while every element is certified valid, the rounds go on
   /// with the elements within `joint_window` of the worst figure only (a smaller problem, whose
   /// soft minimum is not swamped by the many elements just below the target), halving the
-  /// window at each further refusal down to joint_window / 8. All elements below the target at
-  /// once first, then narrowed: the connector eight 0.33 -> 0.39 (narrowed from the start: 0.31).
+  /// window at each further refusal down to joint_window / 8; a narrowed round's β is at least
+  /// 4 / window, so the window spans e^4 in the weights (at β = 40 a window of 0.0125 weighed its
+  /// elements nearly alike and its rounds raised their mean, not the worst: the rod 0.398 ->
+  /// 0.400). All elements below the target at once first, then narrowed: the connector eight
+  /// 0.33 -> 0.39 (narrowed from the start: 0.31).
   /// 0 = the rounds stop at the first refusal [0, 1] (scaled Jacobian).
   double joint_window = 0.1;
   /// With a surface to slide on: the joint rounds first run with every surface node fixed and,
@@ -99,12 +102,18 @@ struct OptimizeParams {
   int trilinear_sweeps = 3;        ///< [0, 100]
   /// Corner hexes in the Bézier passes, once every element is certified valid: the joint rounds
   /// raise those below `trilinear_target` too (in the soft minimum a corner figure t counts as
-  /// target + 10 (t − trilinear_target), so it balances near +0.04 where the Bézier worst does at
-  /// 0.4), and no move of the joint rounds or sweeps takes a certified-valid element's corner hex
-  /// below min(its figure before, `trilinear_target`). Without it the rod (session 28) ended
-  /// with its Bézier worst at 0.400 and its corner hexes at −0.13: the trilinear pass that
-  /// follows may not lower any Bézier figure below the worst, so it could not unfold them.
-  bool trilinear_guard = true;
+  /// target + 10 (t − trilinear_target), so a fold weighs like a Bézier figure ten times as far
+  /// below the target: with targets 0.5 / 0.05 the corner hexes balance near +0.04 where the
+  /// Bézier worst does at 0.4), and no move of the joint rounds or sweeps folds the corner hex of
+  /// a certified-valid element that is not folded. A trade, positive corner hexes first. The rod
+  /// (session 28, stage defaults): Bézier 0.4004 with corner hexes +0.051 on, 0.4002 with −0.128
+  /// off (the trilinear pass after it may not lower a Bézier figure below the worst, so it cannot
+  /// unfold them); the other models of the benchmark are unchanged. On the twisted test cubes
+  /// (target 0.95, tests/tmesh/optimize_test.cpp) it ends lower on the three most folded starts
+  /// (strongest twist: Bézier 0.24 against 0.95, corner hexes −0.64 against 0.93): folds weighed
+  /// ten times swamp the objective there. Off in the library (the fit route's repair); the tmesh
+  /// stage turns it on (tmesh.trilinear_guard).
+  bool trilinear_guard = false;
   double trilinear_target = 0.05;  ///< scaled Jacobian (dimensionless) [-1, 1]
   /// The joint rounds and the per-node sweeps alternate: once the sweeps stop, the joint rounds
   /// (sliding, given a surface) run again from where the sweeps left the nodes, then the sweeps,

@@ -292,6 +292,40 @@ TEST(Optimize, CyclesGoOnWhereOneCycleStops) {
   EXPECT_GE(gained, 1);  // cycles are not a no-op on this family
 }
 
+// The trilinear guard (OptimizeParams::trilinear_guard): over the twists, with the trilinear pass
+// off, the Bézier passes never lower the Bézier worst figure nor lose a certificate, and where
+// every element starts certified valid no corner hex ends below min(its worst at the start, 0)
+// (no move folds one that is not folded); the guard is not a no-op on the family.
+TEST(Optimize, TrilinearGuardKeepsCornerHexesFromFolding) {
+  auto corner_worst = [](const std::vector<tmesh::TMesh>& ts) {
+    double w = 1;
+    for (const auto& t : ts) w = std::min(w, tmesh::min_element_scaled_jacobian(t));
+    return w;
+  };
+  int changed = 0;
+  for_each_twist([&](double twist, int pillow) {
+    tmesh::OptimizeParams op = twist_family_params();
+    op.cycles = 2;
+    op.trilinear_guard = true;
+    std::vector<tmesh::TMesh> guarded = blocks(pillow, twist), free = blocks(pillow, twist);
+    const std::vector<tmesh::TMesh> start = guarded;
+    const tmesh::OptimizeResult rg = tmesh::optimize(guarded, op);
+    op.trilinear_guard = false;
+    const tmesh::OptimizeResult rf = tmesh::optimize(free, op);
+    const double t0 = corner_worst(start), tg = corner_worst(guarded), tf = corner_worst(free);
+    std::printf("twist %.1f pillow %d: Bézier %.4f (%d not valid) -> guarded %.4f, free %.4f; corner hexes %.4f -> guarded %.4f, free %.4f\n",
+                twist, pillow, rg.min_before, rg.invalid_before, rg.min_after, rf.min_after, t0, tg, tf);
+    EXPECT_GE(rg.min_after, rg.min_before);
+    EXPECT_LE(rg.invalid_after, rg.invalid_before);
+    if (rg.invalid_before == 0) {
+      EXPECT_GE(tg, std::min(t0, 0.0) - 1e-12);
+    }
+    changed += std::abs(tg - tf) > 1e-6 ? 1 : 0;
+    expect_surface_kept_and_shared_together(guarded, start);
+  });
+  EXPECT_GE(changed, 1);
+}
+
 TEST(Optimize, ParametersOutOfRangeAreRefused) {
   std::vector<tmesh::TMesh> ts = blocks(0);
   tmesh::OptimizeParams op;
