@@ -645,9 +645,9 @@ void tri_samples(const std::vector<Eigen::Vector3d>& x, int p, const OptimizePar
   const std::size_t n = static_cast<std::size_t>(p) + 1;
   auto at = [n](std::size_t i, std::size_t j, std::size_t k) { return i + n * (j + n * k); };
   const std::size_t m = n - 1;
-  // VTK hexahedron order, each corner with its three edge neighbours, right-handed (tmesh.cpp).
+  // The element's corners in VTK hexahedron order.
   const std::array<std::size_t, 8> v = {at(0, 0, 0), at(m, 0, 0), at(m, m, 0), at(0, m, 0), at(0, 0, m), at(m, 0, m), at(m, m, m), at(0, m, m)};
-  static const int nb[8][3] = {{1, 3, 4}, {2, 0, 5}, {3, 1, 6}, {0, 2, 7}, {7, 5, 0}, {4, 6, 1}, {5, 7, 2}, {6, 4, 3}};
+  const auto& nb = hex_corner_neighbours();
   for (int c = 0; c < 8; ++c) {
     TriSample t;
     t.corner = v[static_cast<std::size_t>(c)];

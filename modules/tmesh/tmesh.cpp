@@ -177,9 +177,13 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params) {
   return blocks;
 }
 
+const std::array<std::array<int, 3>, 8>& hex_corner_neighbours() {
+  static const std::array<std::array<int, 3>, 8> nb = {{{1, 3, 4}, {2, 0, 5}, {3, 1, 6}, {0, 2, 7}, {7, 5, 0}, {4, 6, 1}, {5, 7, 2}, {6, 4, 3}}};
+  return nb;
+}
+
 double trilinear_min_scaled_jacobian(const std::array<Vec3, 8>& x) {
-  // Corner c with its three edge neighbours in VTK hexahedron order, right-handed.
-  static const int nb[8][3] = {{1, 3, 4}, {2, 0, 5}, {3, 1, 6}, {0, 2, 7}, {7, 5, 0}, {4, 6, 1}, {5, 7, 2}, {6, 4, 3}};
+  const auto& nb = hex_corner_neighbours();
   double worst = std::numeric_limits<double>::infinity();
   for (int c = 0; c < 8; ++c) {
     Eigen::Matrix3d J;

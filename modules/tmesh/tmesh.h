@@ -128,6 +128,10 @@ TMesh build_block(const PointMap& map, int degree, const std::array<int, 3>& ele
 /// Builds the control mesh of one unpillowed cube by interpolating `map` at the Greville points.
 TMesh build(const PointMap& map, const Params& params);
 
+/// The three edge neighbours of each corner of a hexahedron in VTK order, right-handed: the
+/// Jacobian at corner c has the columns x[n[c][e]] − x[c], e = 0, 1, 2.
+const std::array<std::array<int, 3>, 8>& hex_corner_neighbours();
+
 /// Scaled Jacobian of a trilinear hexahedron at its 8 corners (Liu et al. eq. (1)–(2)); corners in
 /// VTK order. Returns the minimum.
 double trilinear_min_scaled_jacobian(const std::array<std::array<double, 3>, 8>& x);
