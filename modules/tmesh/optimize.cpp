@@ -371,7 +371,6 @@ bool trilinear_falls(const OptimizeParams& params, const Quality& before, const 
   return params.trilinear_guard && before.valid && before.trilinear >= 0 && now.trilinear < 0;
 }
 
-
 // The trilinear pass (OptimizeParams::trilinear_sweeps): after the Bézier sweeps, so that a
 // move is judged against their result (its elements' sampled figures stay at or above the worst
 // overall, certified-valid elements stay valid).
@@ -379,21 +378,24 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
                      const OptimizeParams& params, OptimizeResult& r) {
   const bezier::CertifyParams cp;
   if (s.size() == 0) return;
-  std::vector<double> tri(s.size());
-  pool.for_each(s.size(), [&](std::size_t e) { tri[e] = corner_hex_scaled_jacobian(s.hex(e)); });
-  r.trilinear_before = r.trilinear_after = *std::min_element(tri.begin(), tri.end());
+  // Every element's corner hex, kept up to date by the Bézier passes (Quality::trilinear).
+  auto tri = [&q](std::size_t e) { return q[e].trilinear; };
+  auto worst_tri = [&q]() {
+    return std::min_element(q.begin(), q.end(), [](const Quality& a, const Quality& b) { return a.trilinear < b.trilinear; }) - q.begin();
+  };
+  r.trilinear_before = r.trilinear_after = tri(static_cast<std::size_t>(worst_tri()));
   double floor = std::numeric_limits<double>::infinity();
   for (const auto& x : q) floor = std::min(floor, x.scaled);
   for (int sweep = 0; sweep < params.trilinear_sweeps; ++sweep) {
     std::vector<std::size_t> bad;
     for (std::size_t e = 0; e < s.size(); ++e)
-      if (tri[e] < params.trilinear_target) bad.push_back(e);
-    std::sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) { return tri[a] < tri[b]; });
+      if (tri(e) < params.trilinear_target) bad.push_back(e);
+    std::sort(bad.begin(), bad.end(), [&](std::size_t a, std::size_t b) { return tri(a) < tri(b); });
     if (bad.empty()) break;
     int moved = 0, tried = 0;
     std::set<int> visited;
     for (const std::size_t e : bad) {
-      if (tri[e] >= params.trilinear_target) continue;
+      if (tri(e) >= params.trilinear_target) continue;
       if (tried >= params.max_nodes_per_sweep) break;
       const std::vector<int> nodes = fresh_interior_nodes(s, e, visited);
       for (const int id : nodes) {
@@ -406,7 +408,7 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
         // fold where no sample sees it.
         if (std::any_of(els.begin(), els.end(), [&](int x) { return !q[static_cast<std::size_t>(x)].valid; })) continue;
         double before = std::numeric_limits<double>::infinity();
-        for (const int x : els) before = std::min(before, tri[static_cast<std::size_t>(x)]);
+        for (const int x : els) before = std::min(before, tri(static_cast<std::size_t>(x)));
         std::vector<double> v(els.size());
         auto objective = [&](const std::vector<double>& d) {
           s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
@@ -441,26 +443,26 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
         for (std::size_t k = 0; k < els.size(); ++k) {
           const auto x = static_cast<std::size_t>(els[k]);
           now[k].trilinear = corner[k];
-          q[x] = now[k], samples[x] = std::move(js[k]), tri[x] = corner[k];
+          q[x] = now[k], samples[x] = std::move(js[k]);
         }
         ++moved;
       }
     }
     r.trilinear_nodes_moved += moved;
-    r.trilinear_after = *std::min_element(tri.begin(), tri.end());
+    r.trilinear_after = tri(static_cast<std::size_t>(worst_tri()));
     core::log("trilinear sweep " + std::to_string(sweep + 1) + ": " + std::to_string(moved) + " nodes moved, worst trilinear scaled Jacobian " +
               std::to_string(r.trilinear_after));
     if (moved == 0) break;
   }
   // Where the worst one is, for a user looking at tmesh.vtu (cell = element index).
-  const std::size_t w = static_cast<std::size_t>(std::min_element(tri.begin(), tri.end()) - tri.begin());
+  const std::size_t w = static_cast<std::size_t>(worst_tri());
   const bezier::BezierHex h = s.hex(w);
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (const int i : {0, h.degree[0]})
     for (const int j : {0, h.degree[1]})
       for (const int k : {0, h.degree[2]}) c += h.points[static_cast<std::size_t>(h.index(i, j, k))] / 8.0;
   core::log("worst trilinear element: " + std::to_string(w) + " (block " + std::to_string(s.block_of(w)) + ", centre " + std::to_string(c.x()) + ", " +
-            std::to_string(c.y()) + ", " + std::to_string(c.z()) + "): " + std::to_string(tri[w]));
+            std::to_string(c.y()) + ", " + std::to_string(c.z()) + "): " + std::to_string(tri(w)));
 }
 
 // Bernstein values and derivatives of one degree at abscissae t (the same on the three axes).
@@ -641,7 +643,6 @@ struct TriSample {
 // The corner-hex samples of an element (Bézier points `x`, degree p) below the trilinear target.
 void tri_samples(const std::vector<Eigen::Vector3d>& x, int p, const OptimizeParams& params, std::vector<TriSample>& out) {
   out.clear();
-  if (!params.trilinear_guard) return;
   const std::size_t n = static_cast<std::size_t>(p) + 1;
   auto at = [n](std::size_t i, std::size_t j, std::size_t k) { return i + n * (j + n * k); };
   const std::size_t m = n - 1;
