@@ -572,6 +572,10 @@ void untangle(VolumeMap& vm, const Params& params) {
     double worst = HUGE_VAL;
     for (int t : bad) worst = std::min(worst, volume6(vm.parameter, vm.tets[t]));
     if (bad.empty()) return;
+    // Progress is measured against the best sweep so far, not the last one: sweeps can trade bad
+    // tets back and forth (3 -> 4 -> 3 ...), which took the eight's second ring to the sweep bound.
+    std::size_t best_count = bad.size();
+    double best_worst = worst;
     vm.untangle_stop = "done";
     while (vm.untangle_sweeps < budget_end && !bad.empty()) {
       for (int v : free_vertices_near(vm, bad, nbrs, ring)) vm.untangle_moves += optimize_vertex(vm, tets_of[v], nbrs, v);
@@ -579,11 +583,11 @@ void untangle(VolumeMap& vm, const Params& params) {
       const std::vector<int> now = bad_tets();
       double w = HUGE_VAL;
       for (int t : now) w = std::min(w, volume6(vm.parameter, vm.tets[t]));
-      const bool progress = now.size() < bad.size() || w > worst + 1e-6 * std::abs(worst);
+      const bool progress = now.size() < best_count || (now.size() == best_count && w > best_worst + 1e-6 * std::abs(best_worst));
+      if (progress) best_count = now.size(), best_worst = w;
       ring = progress ? 0 : std::min(ring + 1, 6);
       stalled = progress ? 0 : stalled + 1;
       bad = now;
-      worst = w;
       if (stalled > 12) {  // the largest neighbourhood has not helped for several sweeps
         vm.untangle_stop = "stalled";
         return;

@@ -89,6 +89,10 @@ void check_volume_maps(const std::string& name) {
     // Smoothing (Newton steps per vertex) stops by its own rule: steepest descent ran the eight's
     // first ring to the bound of 300 sweeps (18 s), now 20 sweeps (0.4 s).
     EXPECT_LT(vm.smooth_sweeps, polycube::Params{}.smooth_sweeps);
+    // Untangling stops by its own rule too: sweeps that traded bad tets back and forth counted as
+    // progress and ran the eight's second ring to the bound of 500 sweeps (4.8 s; session 29).
+    EXPECT_NE(vm.untangle_stop, "sweep_bound") << vm.untangle_sweeps << " sweeps";
+    EXPECT_EQ(vm.flipped_tets, 0);
     test::expect_ring_map_one_to_one(m.rings[i].decomposition, m.surface[i].embedding, vm, 11 + i);
   }
 }
