@@ -25,6 +25,14 @@ struct Params {
   int gauss_points = 0;          ///< Gauss points per direction for the sampled scaled Jacobian; 0 = degree + 1 [0, 10]
   int boundary_samples = 8;      ///< samples per direction on each boundary hex face for hausdorff_rel [2, 64]
   bezier::CertifyParams certify; ///< certification of det J > 0 (bezier/certify.h)
+  /// After the conversion, the hexes' worst scaled Jacobian is raised by the tmesh stage's
+  /// optimizer (tmesh/optimize.h; not part of Xu et al.) on the hexes as one-span B-spline blocks
+  /// sharing their control points: interior points move, boundary points slide along the surface
+  /// where no sharp edge is near, sharp edges and corners stay; no hex loses its certificate. The
+  /// domain stays, but the hexes no longer reproduce the tets. Cycles of joint rounds and per-node
+  /// sweeps (tmesh::OptimizeParams::cycles) [0, 100]; 0 = off, the exact conversion.
+  int optimize_cycles = 0;
+  double optimize_target = 0.3;  ///< hexes below this sampled scaled Jacobian are improved (0, 1]
 };
 
 struct Result {
@@ -43,6 +51,12 @@ struct Result {
   double min_scaled = 0, max_scaled = 0;
   double hausdorff_rel = 0;        ///< max distance hex boundary → input surface / bbox diagonal (sampled)
   double spline_volume = 0, surface_volume = 0, volume_rel_error = 0;
+  /// With Params::optimize_cycles > 0 (tmesh::OptimizeResult): the worst sampled scaled Jacobian
+  /// before the optimization, the joint rounds kept, the nodes the per-node sweeps moved, the
+  /// surface nodes the joint rounds slid (once per round) and why it stopped ("disabled" when off).
+  double min_scaled_before_optimization = 0;
+  int optimization_joint_rounds = 0, optimization_nodes_moved = 0, optimization_surface_nodes_slid = 0;
+  std::string optimization_stop = "disabled";
 };
 
 /// The Bézier tets of degree params.degree of `mesh`; with curve_boundary and degree >= 2, the
@@ -67,7 +81,9 @@ Result run(const std::vector<bezier::BezierTet>& tets, const Params& params);
 
 /// Report keys: those of extract (bezier_elements, degree, min_scaled_jacobian, max_scaled_jacobian,
 /// hausdorff_rel, volume_rel_error, spline_volume, surface_volume) + tets, certified_valid,
-/// certified_invalid, undecided, boundary_faces, boundary_faces_curved, boundary_faces_reverted.
+/// certified_invalid, undecided, boundary_faces, boundary_faces_curved, boundary_faces_reverted,
+/// optimization {stop, min_scaled_jacobian_before, joint_rounds, nodes_moved, surface_nodes_slid}
+/// (Params::optimize_cycles; stop "disabled" and the final figure as "before" when off).
 core::Json report_figures(const Result& r);
 
 /// bezier.vtu: VTK_BEZIER_HEXAHEDRON cells with per-cell min/max scaled Jacobian, boundary

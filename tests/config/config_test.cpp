@@ -140,13 +140,20 @@ TEST(Config, TetRouteSection) {
   EXPECT_DOUBLE_EQ(file.tet2hex.tetgen.max_radius_edge_ratio, builtin.tet2hex.tetgen.max_radius_edge_ratio);
   EXPECT_DOUBLE_EQ(file.tet2hex.remesh_edge_rel, builtin.tet2hex.remesh_edge_rel);
   EXPECT_EQ(file.tet2hex.certify.max_depth, builtin.tet2hex.certify.max_depth);
-  const auto c = config::parse_config("route: tet\ntet2hex: {degree: 2, curve_boundary: false, max_volume_rel: 0.01, remesh_edge_rel: 0.05}\n", "t");
+  EXPECT_EQ(file.tet2hex.optimize_cycles, builtin.tet2hex.optimize_cycles);
+  EXPECT_DOUBLE_EQ(file.tet2hex.optimize_target, builtin.tet2hex.optimize_target);
+  const auto c = config::parse_config(
+      "route: tet\ntet2hex: {degree: 2, curve_boundary: false, max_volume_rel: 0.01, remesh_edge_rel: 0.05, optimize_cycles: 2, optimize_target: 0.4}\n", "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");
   EXPECT_EQ(d.route, "tet");
   EXPECT_EQ(d.tet2hex.degree, 2);
   EXPECT_FALSE(d.tet2hex.curve_boundary);
   EXPECT_DOUBLE_EQ(d.tet2hex.tetgen.max_volume_rel, 0.01);
   EXPECT_DOUBLE_EQ(d.tet2hex.remesh_edge_rel, 0.05);
+  EXPECT_EQ(d.tet2hex.optimize_cycles, 2);
+  EXPECT_DOUBLE_EQ(d.tet2hex.optimize_target, 0.4);
+  EXPECT_NE(config_error("tet2hex: {optimize_target: 0}\n").find("tet2hex.optimize_target"), std::string::npos);
+  EXPECT_NE(config_error("tet2hex: {optimize_cycles: 101}\n").find("tet2hex.optimize_cycles"), std::string::npos);
   EXPECT_NE(config_error("tet2hex: {degree: 5}\n").find("tet2hex.degree: 5 is out of range [1, 4]"), std::string::npos);
   EXPECT_NE(config_error("tet2hex: {curve_boundary: maybe}\n").find("tet2hex.curve_boundary: must be true or false"), std::string::npos);
   EXPECT_NE(config_error("tet2hex: {max_radius_edge_ratio: 1.0}\n").find("tet2hex.max_radius_edge_ratio"), std::string::npos);

@@ -4,6 +4,11 @@
 
 #include "common/test_util.h"
 #include "core/errors.h"
+#include <array>
+#include <iostream>
+#include <set>
+
+#include "extract/point_index.h"
 #include "tet2hex/convert.h"
 #include "tet2hex/tet2hex.h"
 #include "test_util.h"
@@ -78,4 +83,51 @@ TEST(TetRoute, BadParametersAndInputAreRefused) {
   p.boundary_samples = 1;
   EXPECT_THROW(run(s, p), core::ConfigError);
   EXPECT_THROW(run(std::vector<bezier::BezierTet>{}, Params{}), core::InvalidInputError);
+}
+
+// Params::optimize_cycles: the tmesh optimizer on the hexes raises the worst one, keeps every
+// certificate and every shared point shared, leaves the sharp corners where they are and the
+// boundary on the surface (sliding nodes are projected back at their offset).
+TEST(TetRouteOptimization, RaisesTheWorstHexAndKeepsCornersBoundaryAndConformity) {
+  const surface::Mesh s = test::generated_model("box", 8);
+  Params p;
+  p.remesh_edge_rel = 0.25;
+  const Result exact = run(s, p);
+  p.optimize_cycles = 1;
+  const Result opt = run(s, p);
+  ASSERT_EQ(opt.hexes.size(), exact.hexes.size());
+  EXPECT_EQ(exact.optimization_stop, "disabled");
+  EXPECT_EQ(opt.certified_valid, static_cast<int>(opt.hexes.size()));
+  EXPECT_NEAR(opt.min_scaled_before_optimization, exact.min_scaled, 1e-9);
+  EXPECT_GT(opt.min_scaled, exact.min_scaled + 0.05) << "before " << exact.min_scaled;
+  EXPECT_GT(opt.optimization_joint_rounds + opt.optimization_nodes_moved, 0);
+  std::cout << "[ figures  ] box, tet route: " << opt.hexes.size() << " hexes, worst " << exact.min_scaled << " -> " << opt.min_scaled << ", hausdorff_rel "
+            << exact.hausdorff_rel << " -> " << opt.hausdorff_rel << ", volume_rel_error " << exact.volume_rel_error << " -> "
+            << opt.volume_rel_error << ", stop " << opt.optimization_stop << "\n";
+  EXPECT_LT(opt.hausdorff_rel, 1.5 * exact.hausdorff_rel + 1e-4);
+  EXPECT_LT(opt.volume_rel_error, exact.volume_rel_error + 1e-3);
+  // The box's eight corners are sharp corners: control points there stay exactly.
+  int corners = 0;
+  for (const double x : {-1.0, 1.0})
+    for (const double y : {-0.75, 0.75})
+      for (const double z : {-0.5, 0.5}) {
+        const Eigen::Vector3d c(x, y, z);
+        bool before = false, after = false;
+        for (std::size_t e = 0; e < opt.hexes.size(); ++e) {
+          for (const auto& q : exact.hexes[e].points) before = before || q == c;
+          for (const auto& q : opt.hexes[e].points) after = after || q == c;
+        }
+        corners += before;
+        EXPECT_EQ(after, before) << c.transpose();
+      }
+  EXPECT_EQ(corners, 8);
+  // Shared control points moved together: as many distinct points as the conversion had (it
+  // computes a shared face's points in each tet, equal to roundoff), now equal bit for bit.
+  extract::PointIndex index(Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-2), Eigen::Vector3d::Constant(2)), 1e-9);
+  for (const auto& h : exact.hexes)
+    for (const auto& q : h.points) index.find_or_add(q);
+  std::set<std::array<double, 3>> points;
+  for (const auto& h : opt.hexes)
+    for (const auto& q : h.points) points.insert({q.x(), q.y(), q.z()});
+  EXPECT_EQ(points.size(), index.points().size());
 }
