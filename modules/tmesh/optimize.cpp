@@ -323,26 +323,27 @@ struct Quality {
   double trilinear = 1;  // scaled Jacobian of the hex of its corner points (eq. (1)–(2))
 };
 
-// The interior nodes (global ids) of element e not yet in `visited`, added to it: a node is
-// moved once per sweep, for the worst element it supports.
-std::vector<int> fresh_interior_nodes(const Spline& s, std::size_t e, std::set<int>& visited) {
+// The interior nodes (global ids) of element e not yet in `visited`, added to it, and with
+// `surface_too` its surface nodes as well: a node is moved once per sweep, for the worst element
+// it supports.
+std::vector<int> fresh_interior_nodes(const Spline& s, std::size_t e, std::set<int>& visited, bool surface_too = false) {
   std::vector<int> nodes;
   for (const int local : s.points_of(e)) {
     const int id = s.id_of(s.block_of(e), local);
-    if (!s.on_surface(id) && visited.insert(id).second) nodes.push_back(id);
+    if ((surface_too || !s.on_surface(id)) && visited.insert(id).second) nodes.push_back(id);
   }
   return nodes;
 }
 
-// Maximizes objective(d) over the box [-h, h]^3 from d (NLopt's derivative-free BOBYQA: the
+// Maximizes objective(d) over the box [-h, h]^n from d, n = d.size() (NLopt's derivative-free BOBYQA: the
 // objectives are minima, not smooth), at most `evaluations` calls; d and best receive the best
 // point and value NLopt reported (also when it gives up on a flat or noisy objective, or stops on
 // an error in the objective: callers re-evaluate at d outside NLopt, so a repeatable error comes out).
 template <class F>
 void maximize_in_box(F& objective, double h, int evaluations, std::vector<double>& d, double& best) {
-  nlopt::opt opt(nlopt::LN_BOBYQA, 3);
-  opt.set_lower_bounds(std::vector<double>(3, -h));
-  opt.set_upper_bounds(std::vector<double>(3, h));
+  nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(d.size()));
+  opt.set_lower_bounds(std::vector<double>(d.size(), -h));
+  opt.set_upper_bounds(std::vector<double>(d.size(), h));
   opt.set_max_objective([](const std::vector<double>& x, std::vector<double>&, void* f) { return (*static_cast<F*>(f))(x); }, &objective);
   opt.set_maxeval(evaluations);
   opt.set_initial_step(0.25 * h);
@@ -1006,7 +1007,8 @@ void summarize(const std::vector<Quality>& q, double* worst, int* invalid) {
 // The per-node sweeps (OptimizeParams::sweeps, max_nodes_per_sweep, min_gain, patience): worst
 // elements first, each interior node moved where it raises the worst figure of its elements.
 void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, std::vector<XRowSamples>& x_rows,
-                 core::ThreadPool& pool, const OptimizeParams& params, OptimizeResult& r) {
+                 core::ThreadPool& pool, const OptimizeParams& params, const SlideSurface* surface, OptimizeResult& r) {
+  const bool slide = params.sweep_slide && surface != nullptr;
   const bezier::CertifyParams cp;
   auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
   double last_worst = 0;
@@ -1031,13 +1033,25 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     int tried = 0;
     for (const std::size_t e : bad) {
       if (q[e].scaled >= params.target && q[e].valid) continue;  // improved by an earlier move this sweep
-      const std::vector<int> nodes = fresh_interior_nodes(s, e, visited);
+      const std::vector<int> nodes = fresh_interior_nodes(s, e, visited, slide);
       for (const int id : nodes) {
+        // OptimizeParams::sweep_slide: a surface node searches its tangent plane (two coordinates,
+        // within its reach; the sampled Jacobians stay affine in them), the move checked below is
+        // projected back onto the surface at its offset. Nodes that may not slide (near a sharp
+        // edge) and those along sharp curves (one coordinate) stay.
+        SlideFrame frame;
+        if (slide && s.on_surface(id) && !(slide_frame(s, *surface, id, false, frame) && frame.dims == 2)) continue;
         if (++tried > params.max_nodes_per_sweep) break;
         const std::vector<int>& els = s.elements_of(id);
         const auto x0 = s.position(id);
-        const double h = 0.5 * s.neighbour_distance(id);
+        const double h = frame.dims == 2 ? frame.reach : 0.5 * s.neighbour_distance(id);
         if (!std::isfinite(h) || h <= 0) continue;
+        // The displacement of search point d (three coordinates, or two along the tangent plane).
+        const auto displacement = [&](const std::vector<double>& d) -> std::array<double, 3> {
+          if (frame.dims == 0) return {d[0], d[1], d[2]};
+          const Eigen::Vector3d v = d[0] * frame.t1 + d[1] * frame.t2;
+          return {v.x(), v.y(), v.z()};
+        };
         // Elements not certified valid also count with their certified lower bound of det J
         // relative to its mean: a sample can miss the fold. The search looks only at the node's
         // elements within `margin` of the target (the others are far from being the worst);
@@ -1045,7 +1059,8 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         std::vector<int> near;
         for (const int x : els)
           if (q[static_cast<std::size_t>(x)].scaled < params.target + params.margin || !q[static_cast<std::size_t>(x)].valid) near.push_back(x);
-        auto objective_on = [&](const std::vector<double>& d, const auto& set) {
+        auto objective_on = [&](const std::vector<double>& d0, const auto& set) {
+          const std::array<double, 3> d = displacement(d0);
           s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
           // Per element on the pool (sampled figure, then the certified one), reduced in order.
           std::vector<std::array<double, 2>> v(set.size(), {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
@@ -1083,10 +1098,10 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           for (std::size_t i = 0; i < J1[k].size(); ++i) linear.add(J0[i], (J1[k][i] - J0[i].row(0)) / h);
         }
         auto objective = [&](const std::vector<double>& d) {
-          const double worst = linear.min_scaled(d.data());
+          const double worst = linear.min_scaled(displacement(d).data());
           return direct.empty() ? worst : std::min(worst, objective_on(d, direct));
         };
-        std::vector<double> d(3, 0.0);
+        std::vector<double> d(frame.dims == 2 ? 2 : 3, 0.0);
         // The objective over all the node's elements at x0: sampled figures from q, certified
         // ones of the elements not certified valid.
         std::vector<int> not_valid;
@@ -1102,11 +1117,19 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         // that keeps every certified-valid element valid. At d = 0 the objective is `before`
         // exactly: no gain. The sampled figures decide first, so moves without a gain (most of
         // them) cost no certification of the valid elements.
-        if (d[0] == 0 && d[1] == 0 && d[2] == 0) {
+        if (std::all_of(d.begin(), d.end(), [](double x) { return x == 0; })) {
           s.set_position(id, x0);
           continue;
         }
-        s.set_position(id, {x0[0] + d[0], x0[1] + d[1], x0[2] + d[2]});
+        {
+          const std::array<double, 3> dx = displacement(d);
+          std::array<double, 3> y{x0[0] + dx[0], x0[1] + dx[1], x0[2] + dx[2]};
+          if (frame.dims == 2) {  // back onto the surface, at the node's offset from it
+            const Vec3 c = surface->closest({y[0] - frame.offset.x(), y[1] - frame.offset.y(), y[2] - frame.offset.z()});
+            y = {c[0] + frame.offset.x(), c[1] + frame.offset.y(), c[2] + frame.offset.z()};
+          }
+          s.set_position(id, y);
+        }
         std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
         std::vector<Quality> now(els.size());
         // Accepted iff every element's new figure exceeds `before` (and, for elements not certified
@@ -1156,6 +1179,7 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           samples[static_cast<std::size_t>(els[k])] = std::move(js[k]);
         }
         ++moved;
+        r.surface_nodes_slid += frame.dims == 2 ? 1 : 0;
       }
     }
     ++r.sweeps;  // over all cycles
@@ -1253,7 +1277,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
         joint_phase(s, q, samples, pool, params, surface, r);
       }
     }
-    sweep_phase(s, q, samples, x_rows, pool, params, r);
+    sweep_phase(s, q, samples, x_rows, pool, params, surface, r);
     r.cycles = cycle + 1;
     double cycle_end = 0;
     int cycle_invalid_end = 0;

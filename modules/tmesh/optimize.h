@@ -88,6 +88,12 @@ struct OptimizeParams {
   /// reach; false: every node on or next to a sharp curve stays. Off by default: measured on the
   /// rod (session 24), 0.304 -> 0.203 sliding from the start, 0.283 -> 0.284 from the stall.
   bool slide_sharp_curves = false;
+  /// With a surface to slide on: the per-node sweeps also move surface nodes that may slide
+  /// (as in the joint rounds, but not along sharp curves), each in its tangent plane within its
+  /// reach, the move projected back onto the surface at its offset before it is checked. Off in
+  /// the tmesh stage (its figures were measured without); the tet route turns it on (its worst
+  /// hexes lie at the surface, where interior moves cannot help).
+  bool sweep_slide = false;
   /// Then the T-mesh elements as trilinear hexes (Liu et al. eq. (1)–(2): each Bézier element's
   /// 8 corner points, the spline at its corners) whose scaled Jacobian is below
   /// `trilinear_target`: at most `trilinear_sweeps` passes, worst first, each interior node of
@@ -143,7 +149,7 @@ struct OptimizeResult {
   int trilinear_nodes_moved = 0;
   int joint_rounds = 0;  ///< joint rounds kept
   int cycles = 0;        ///< cycles of joint rounds and sweeps run (OptimizeParams::cycles)
-  int surface_nodes_slid = 0;  ///< surface nodes the kept joint rounds moved along the surface (counted once per round)
+  int surface_nodes_slid = 0;  ///< surface nodes the kept joint rounds (once per round) and sliding sweeps (per move) moved along the surface
   /// Per element (the T-mesh's order: block after block, i fastest; write_vtu's): its sampled
   /// scaled Jacobian before and after optimization, so a user sees where the start was poor.
   std::vector<double> element_before, element_after;
