@@ -78,8 +78,9 @@ const std::vector<Model>& all_models() {
       // The assembly through the tet route while split cannot take genus 5: TetGen tets of a coarser
       // remesh, four certified Bézier hexes each (not the paper's construction; compare with care).
       {"assembly-tet", "assembly", "", 24, &kAssembly, 0.27, "route: tet\ntet2hex: {remesh_edge_rel: 0.03}"},
-      // The same with tmesh's optimizer on the hexes (tet2hex.optimize_cycles; slow: minutes).
-      {"assembly-tet-opt", "assembly", "", 24, &kAssembly, 0.27, "route: tet\ntet2hex: {remesh_edge_rel: 0.03, optimize_cycles: 1}"},
+      // The same with tmesh's optimizer on the hexes (examples/assembly-tet.yaml; slow: minutes).
+      {"assembly-tet-opt", "assembly", "", 24, &kAssembly, 0.27,
+       "route: tet\ntet2hex: {remesh_edge_rel: 0.03, optimize_cycles: 1, optimize_target: 0.2}"},
       // Generated rings of rectilinear profiles (volts-make-model): a plus (profile ring) and an L (square ring).
       {"washer", "washer", "", 48, nullptr},
       {"flanged-ring", "flanged-ring", "", 48, nullptr},
