@@ -15,11 +15,11 @@
 #include "core/errors.h"
 #include "core/log.h"
 #include "extract/point_index.h"
-#include "surface/mesh_json.h"
-#include "tmesh/optimize.h"
 #include "quality/quality.h"
+#include "surface/mesh_json.h"
 #include "surface/remesh.h"
 #include "tet2hex/convert.h"
+#include "tmesh/optimize.h"
 
 namespace volts::tet2hex {
 namespace {
@@ -289,10 +289,18 @@ std::vector<bezier::BezierTet> bezier_tets(const tetmesh::TetMesh& mesh, const M
 namespace {
 
 // Params::optimize_cycles: the hexes as blocks of the tmesh optimizer. A hex is a clamped B-spline
-// of one span per direction (its Bézier points are its control points); points equal to 1e-12 of
-// the diagonal are one node (the conversion gives shared faces identical points); a hex face on
-// a boundary tet face is a boundary face of its block (surface nodes: they slide or stay).
+// of one span per direction (its Bézier points are its control points); points within 1e-12 of
+// the diagonal of each other are one node (extract's rule for the global basis); a hex face on a
+// boundary tet face is a boundary face of its block (surface nodes: they slide or stay). The
+// optimizer's Jacobians are polynomial: rational hexes (weighted tets given as .vtu) are left as
+// they are.
 void optimize_hexes(Result& r, const Mesh& surface, const std::vector<std::array<int, 2>>& bfaces, const Params& params, int gauss_points) {
+  if (std::any_of(r.hexes.begin(), r.hexes.end(), [](const bezier::BezierHex& h) { return h.is_rational(); })) {
+    core::log_warning("tet2hex.optimize_cycles: the hexes are rational (weighted tets); not optimized");
+    r.optimization_stop = "rational_hexes";
+    r.min_scaled_before_optimization = 0;
+    return;
+  }
   const int n = r.degree;
   Eigen::AlignedBox3d box;
   for (const auto& h : r.hexes)
@@ -453,7 +461,8 @@ core::Json report_figures(const Result& r) {
                     {"boundary_faces_curved", r.boundary_faces_curved},
                     {"boundary_faces_reverted", r.boundary_faces_reverted},
                     {"optimization", {{"stop", r.optimization_stop},
-                                      {"min_scaled_jacobian_before", r.optimization_stop == "disabled" ? r.min_scaled : r.min_scaled_before_optimization},
+                                      {"min_scaled_jacobian_before",
+                                       r.optimization_stop == "disabled" || r.optimization_stop == "rational_hexes" ? r.min_scaled : r.min_scaled_before_optimization},
                                       {"joint_rounds", r.optimization_joint_rounds},
                                       {"nodes_moved", r.optimization_nodes_moved},
                                       {"surface_nodes_slid", r.optimization_surface_nodes_slid}}}};

@@ -1,6 +1,8 @@
 // volts::tet2hex — the tet route: any closed surface → TetGen tetrahedra → Bézier tets of degree n
 // (optionally with the boundary curved onto the input surface) → four Bézier hexes per tet
-// (Xu et al. 2018, Theorem 3; see tet2hex/convert.h) → certified validity, quality figures, export.
+// (Xu et al. 2018, Theorem 3; see tet2hex/convert.h) → optionally the tmesh stage's Jacobian
+// optimizer on the hexes (Params::optimize_cycles; not in Xu et al.) → certified validity, quality
+// figures, export.
 // Reported with the same keys as extract (stage 5), so both routes compare line by line.
 #pragma once
 
@@ -53,7 +55,8 @@ struct Result {
   double spline_volume = 0, surface_volume = 0, volume_rel_error = 0;
   /// With Params::optimize_cycles > 0 (tmesh::OptimizeResult): the worst sampled scaled Jacobian
   /// before the optimization, the joint rounds kept, the nodes the per-node sweeps moved, the
-  /// surface nodes the joint rounds slid (once per round) and why it stopped ("disabled" when off).
+  /// surface nodes slid and why it stopped ("disabled" when off, "rational_hexes" when the hexes
+  /// are rational: the optimizer's Jacobians are polynomial, so they are left as they are).
   double min_scaled_before_optimization = 0;
   int optimization_joint_rounds = 0, optimization_nodes_moved = 0, optimization_surface_nodes_slid = 0;
   std::string optimization_stop = "disabled";

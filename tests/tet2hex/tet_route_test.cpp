@@ -74,6 +74,22 @@ TEST(TetRoute, GivenTetsAreConvertedAndElevated) {
   EXPECT_LT(r.volume_rel_error, 1e-12);
 }
 
+// The optimizer's Jacobians are polynomial: rational hexes (weighted tets) are left as converted.
+TEST(TetRouteOptimization, RationalHexesAreLeftAsConverted) {
+  std::mt19937 rng(5);
+  const std::vector<bezier::BezierTet> one = {test::random_tet(rng, 2, 0.05, true)};
+  ASSERT_TRUE(one[0].is_rational());
+  Params p;
+  p.degree = 2;
+  const Result exact = run(one, p);
+  p.optimize_cycles = 1;
+  const Result r = run(one, p);
+  EXPECT_EQ(r.optimization_stop, "rational_hexes");
+  ASSERT_EQ(r.hexes.size(), exact.hexes.size());
+  for (std::size_t e = 0; e < r.hexes.size(); ++e) EXPECT_EQ(r.hexes[e].points, exact.hexes[e].points);
+  EXPECT_EQ(r.certified_valid, exact.certified_valid);
+}
+
 TEST(TetRoute, BadParametersAndInputAreRefused) {
   const surface::Mesh s = test::generated_model("tetrahedron", 4);
   Params p;
@@ -81,6 +97,12 @@ TEST(TetRoute, BadParametersAndInputAreRefused) {
   EXPECT_THROW(run(s, p), core::ConfigError);
   p = {};
   p.boundary_samples = 1;
+  EXPECT_THROW(run(s, p), core::ConfigError);
+  p = {};
+  p.optimize_cycles = 101;
+  EXPECT_THROW(run(s, p), core::ConfigError);
+  p = {};
+  p.optimize_target = 0;
   EXPECT_THROW(run(s, p), core::ConfigError);
   EXPECT_THROW(run(std::vector<bezier::BezierTet>{}, Params{}), core::InvalidInputError);
 }
