@@ -597,6 +597,14 @@ struct SlideFrame {
 // Coordinates of a variable: x, y, z for an interior node, else its sliding dimensions.
 std::size_t width(const SlideFrame& f) { return f.dims == 0 ? 3u : static_cast<std::size_t>(f.dims); }
 
+// y (a point of f's tangent plane or curve tangent) back onto the surface (the sharp curve) at
+// the node's offset from it.
+Eigen::Vector3d onto_surface(const SlideFrame& f, const SlideSurface& surface, const Eigen::Vector3d& y) {
+  const Eigen::Vector3d on = y - f.offset;
+  const Vec3 c = f.dims == 2 ? surface.closest({on.x(), on.y(), on.z()}) : surface.closest_sharp({on.x(), on.y(), on.z()});
+  return Eigen::Vector3d(c[0], c[1], c[2]) + f.offset;
+}
+
 bool slide_frame(const Spline& s, const SlideSurface& surface, int id, bool curves, SlideFrame& f) {
   const auto p = s.position(id);
   Vec3 n;
@@ -762,11 +770,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       if (x[at] == 0 && b == 0) return {f.origin.x(), f.origin.y(), f.origin.z()};
       Eigen::Vector3d y = f.origin + x[at] * f.t1;
       if (f.dims == 2) y += b * f.t2;
-      if (project) {
-        const Eigen::Vector3d on = y - f.offset;
-        const Vec3 c = f.dims == 2 ? surface->closest({on.x(), on.y(), on.z()}) : surface->closest_sharp({on.x(), on.y(), on.z()});
-        y = Eigen::Vector3d(c[0], c[1], c[2]) + f.offset;
-      }
+      if (project) y = onto_surface(f, *surface, y);
       return {y.x(), y.y(), y.z()};
     };
     auto set_all = [&](const std::vector<double>& x, bool project) {
@@ -1123,12 +1127,9 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         }
         {
           const std::array<double, 3> dx = displacement(d);
-          std::array<double, 3> y{x0[0] + dx[0], x0[1] + dx[1], x0[2] + dx[2]};
-          if (frame.dims == 2) {  // back onto the surface, at the node's offset from it
-            const Vec3 c = surface->closest({y[0] - frame.offset.x(), y[1] - frame.offset.y(), y[2] - frame.offset.z()});
-            y = {c[0] + frame.offset.x(), c[1] + frame.offset.y(), c[2] + frame.offset.z()};
-          }
-          s.set_position(id, y);
+          Eigen::Vector3d y(x0[0] + dx[0], x0[1] + dx[1], x0[2] + dx[2]);
+          if (frame.dims == 2) y = onto_surface(frame, *surface, y);
+          s.set_position(id, {y.x(), y.y(), y.z()});
         }
         std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
         std::vector<Quality> now(els.size());
