@@ -79,9 +79,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     std::unique_ptr<tmesh::SlideSurface> slide;
     if (ctx.config.tmesh.slide_surface) {
       const surface::Mesh mesh = surface::mesh_from_json(surface, ctx.input_file("polycube"));
-      std::vector<std::array<int, 3>> triangles;
-      for (const auto& f : surface::triangle_array(mesh)) triangles.push_back({f.at(0), f.at(1), f.at(2)});
-      slide = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), triangles);
+      slide = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), surface::triangle_triples(mesh));
       core::log("surface nodes slide along the input surface (" + std::to_string(slide->sharp_edges()) + " sharp edges, " +
                 std::to_string(slide->sharp_corners()) + " sharp corners" + (op.slide_sharp_curves ? ", sharp-curve nodes along their curve)" : " keep theirs)"));
     }

@@ -27,6 +27,13 @@ std::vector<std::vector<int>> triangle_array(const Mesh& mesh) {
   return tris;
 }
 
+std::vector<std::array<int, 3>> triangle_triples(const Mesh& mesh) {
+  std::vector<std::array<int, 3>> tris;
+  tris.reserve(mesh.number_of_faces());
+  for (const auto& t : triangle_array(mesh)) tris.push_back({t.at(0), t.at(1), t.at(2)});
+  return tris;
+}
+
 core::Json mesh_to_json(const Mesh& mesh) {
   std::vector<double> xyz;
   xyz.reserve(3 * mesh.number_of_vertices());

@@ -330,9 +330,7 @@ void optimize_hexes(Result& r, const Mesh& surface, const std::vector<std::array
   for (const auto& bf : bfaces)
     for (int c = 0; c < 4; ++c)
       if (c != bf[1]) blocks[static_cast<std::size_t>(4 * bf[0] + c)].boundary[static_cast<std::size_t>(2 * axis_towards(c, bf[1]))] = 1;
-  std::vector<std::array<int, 3>> triangles;
-  for (const auto& f : surface::triangle_array(surface)) triangles.push_back({f.at(0), f.at(1), f.at(2)});
-  const tmesh::SlideSurface slide(surface::vertex_array(surface), triangles);
+  const tmesh::SlideSurface slide(surface::vertex_array(surface), surface::triangle_triples(surface));
   tmesh::OptimizeParams op;
   op.sweeps = 40;  // the tmesh stage's defaults otherwise
   op.cycles = params.optimize_cycles;

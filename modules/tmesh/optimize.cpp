@@ -324,9 +324,9 @@ struct Quality {
 };
 
 // The interior nodes (global ids) of element e not yet in `visited`, added to it, and with
-// `surface_too` its surface nodes as well: a node is moved once per sweep, for the worst element
+// `surface_too` its surface nodes as well (the sliding sweeps): a node is moved once per sweep, for the worst element
 // it supports.
-std::vector<int> fresh_interior_nodes(const Spline& s, std::size_t e, std::set<int>& visited, bool surface_too = false) {
+std::vector<int> fresh_nodes(const Spline& s, std::size_t e, std::set<int>& visited, bool surface_too = false) {
   std::vector<int> nodes;
   for (const int local : s.points_of(e)) {
     const int id = s.id_of(s.block_of(e), local);
@@ -398,7 +398,7 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
     for (const std::size_t e : bad) {
       if (tri(e) >= params.trilinear_target) continue;
       if (tried >= params.max_nodes_per_sweep) break;
-      const std::vector<int> nodes = fresh_interior_nodes(s, e, visited);
+      const std::vector<int> nodes = fresh_nodes(s, e, visited);
       for (const int id : nodes) {
         if (++tried > params.max_nodes_per_sweep) break;
         const std::vector<int>& els = s.elements_of(id);
@@ -1037,7 +1037,7 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     int tried = 0;
     for (const std::size_t e : bad) {
       if (q[e].scaled >= params.target && q[e].valid) continue;  // improved by an earlier move this sweep
-      const std::vector<int> nodes = fresh_interior_nodes(s, e, visited, slide);
+      const std::vector<int> nodes = fresh_nodes(s, e, visited, slide);
       for (const int id : nodes) {
         // OptimizeParams::sweep_slide: a surface node searches its tangent plane (two coordinates,
         // within its reach; the sampled Jacobians stay affine in them), the move checked below is
