@@ -180,4 +180,31 @@ std::vector<Eigen::MatrixXd> extraction_operators(const std::vector<double>& kno
   return ops;
 }
 
+Eigen::MatrixXd refinement_matrix(const std::vector<double>& coarse, const std::vector<double>& fine, int degree) {
+  check_knot_vector(coarse, degree, "refinement: coarse knot vector");
+  check_knot_vector(fine, degree, "refinement: fine knot vector");
+  constexpr double kSame = 1e-12;
+  if (std::abs(coarse.front() - fine.front()) > kSame || std::abs(coarse.back() - fine.back()) > kSame)
+    throw core::InvalidInputError("refinement: the fine knot vector spans another interval than the coarse one");
+  // The knots of `fine` missing from `coarse`, as a merge of the two sorted sequences.
+  std::vector<double> insert;
+  std::size_t c = 0;
+  for (const double x : fine) {
+    if (c < coarse.size() && std::abs(coarse[c] - x) <= kSame) {
+      ++c;
+    } else if (c < coarse.size() && coarse[c] < x) {
+      break;  // a coarse knot that `fine` skips
+    } else {
+      insert.push_back(x);
+    }
+  }
+  if (c != coarse.size())
+    throw core::InvalidInputError("refinement: the fine knot vector lacks the coarse knot " + std::to_string(coarse[c]));
+  std::vector<double> L = coarse;
+  const int n = static_cast<int>(coarse.size()) - degree - 1;
+  Eigen::MatrixXd M = Eigen::MatrixXd::Identity(n, n);
+  for (const double x : insert) insert_knot(L, M, degree, x);
+  return M;
+}
+
 }  // namespace volts::bezier

@@ -56,6 +56,13 @@ std::vector<int> element_spans(const std::vector<double>& knots, int degree);
 /// valid for unclamped knot vectors).
 std::vector<Eigen::MatrixXd> extraction_operators(const std::vector<double>& knots, int degree);
 
+/// Knot refinement (Boehm insertion of every knot of `fine` not in `coarse`): the matrix R, one
+/// row per coarse function and one column per fine function, with N_i(coarse) = sum_j R(i,j)
+/// N_j(fine); the same spline's fine control points are Rᵀ·P. Rows sum to one where the coarse
+/// basis does. Knots are matched within 1e-12. Throws core::InvalidInputError if `fine` does not
+/// contain every knot of `coarse` (with its multiplicity) or the two do not span the same interval.
+Eigen::MatrixXd refinement_matrix(const std::vector<double>& coarse, const std::vector<double>& fine, int degree);
+
 /// Throws core::InvalidInputError (message prefixed by `what`) unless knots/degree are valid as above.
 void check_knot_vector(const std::vector<double>& knots, int degree, const char* what = "knot vector");
 

@@ -152,6 +152,54 @@ TEST(BSpline, ExtractionOfC0KnotsIsIdentityAtBoundaries) {
   }
 }
 
+// Knot refinement: the refined basis reproduces every coarse function, so a spline and its
+// refined control points Rᵀ·P are one curve; clamped coarse bases keep their rows summing to one.
+TEST(BSpline, RefinementMatrixReproducesTheCoarseBasis) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 100; ++trial) {
+    const int p = 1 + trial % 4;
+    const auto coarse = random_knots(rng, p, true);
+    std::vector<double> fine = coarse;
+    const int extra = 1 + trial % 5;
+    for (int i = 0; i < extra; ++i) fine.push_back(unit(rng));
+    if (trial % 3 == 0)  // an existing interior knot again (raised multiplicity)
+      for (const double k : coarse)
+        if (k > 0 && k < 1 && std::count(coarse.begin(), coarse.end(), k) < p) {
+          fine.push_back(k);
+          break;
+        }
+    std::sort(fine.begin(), fine.end());
+    const Eigen::MatrixXd R = refinement_matrix(coarse, fine, p);
+    const int nc = static_cast<int>(coarse.size()) - p - 1, nf = static_cast<int>(fine.size()) - p - 1;
+    ASSERT_EQ(R.rows(), nc);
+    ASSERT_EQ(R.cols(), nf);
+    EXPECT_GE(R.minCoeff(), -1e-15);
+    for (int j = 0; j < nf; ++j) EXPECT_NEAR(R.col(j).sum(), 1.0, 1e-13) << "fine function " << j;  // Rᵀ·1 = 1
+    for (double t : sample_params(rng, fine, p)) {
+      const BasisValues bc = basis_functions(coarse, p, t), bf = basis_functions(fine, p, t);
+      for (int i = 0; i < nc; ++i) {
+        const double want = (i >= bc.span - p && i <= bc.span) ? bc.values[i - (bc.span - p)] : 0.0;
+        double got = 0;
+        for (int k = 0; k <= p; ++k) got += R(i, bf.span - p + k) * bf.values[k];
+        EXPECT_NEAR(got, want, 1e-13) << "t=" << t << " p=" << p << " coarse function " << i;
+      }
+    }
+  }
+  // Uniform doubling, the T-mesh's refinement of a cube: the fine control polygon of the line
+  // x = t (Greville points) is the fine Greville points.
+  const auto c4 = open_uniform_knots(4, 3), c8 = open_uniform_knots(8, 3);
+  const Eigen::MatrixXd R = refinement_matrix(c4, c8, 3);
+  const auto gc = greville_abscissae(c4, 3), gf = greville_abscissae(c8, 3);
+  for (int j = 0; j < static_cast<int>(gf.size()); ++j) {
+    double x = 0;
+    for (int i = 0; i < static_cast<int>(gc.size()); ++i) x += R(i, j) * gc[static_cast<std::size_t>(i)];
+    EXPECT_NEAR(x, gf[static_cast<std::size_t>(j)], 1e-15);
+  }
+  EXPECT_THROW(refinement_matrix(c8, c4, 3), core::InvalidInputError);  // coarsening
+  EXPECT_THROW(refinement_matrix(open_uniform_knots(3, 3), c4, 3), core::InvalidInputError);  // 1/3 not in c4
+}
+
 TEST(BSpline, InvalidArgumentsThrow) {
   const std::vector<double> good{0, 0, 0, 0.5, 1, 1, 1};
   EXPECT_NO_THROW(find_span(good, 2, 0.3));
