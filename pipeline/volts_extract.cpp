@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
       "other files take its stem.",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("tmesh");
-        const core::Json j = core::read_stage_file(in, "volts-tmesh", 2);
+        const core::Json j = core::read_stage_file(in, "volts-tmesh", 3);
         pipeline::check_integer_members(in, j);
         const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
         std::vector<tmesh::TMesh> t;

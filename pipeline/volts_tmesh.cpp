@@ -1,7 +1,10 @@
 // volts-tmesh: stage 4 (Liu et al. §5.1–5.2). Reads polycube.stage.json, builds the octree T-mesh
 // (control mesh) through the volume map; writes tmesh.stage.json and tmesh.vtu.
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 
 #include "core/log.h"
@@ -50,11 +53,30 @@ core::Json worst_blocks(const std::vector<tmesh::TMesh>& ts, const tmesh::Optimi
 }
 
 // Blocks, optimization, files and report: the same for every kind of polycube.
-core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surface, const tmesh::PolycubeMaps& maps) {
+core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surface, tmesh::PolycubeMaps maps) {
   std::vector<tmesh::TMesh> ts;
+  tmesh::Levels levels;
   {
     core::LogSection s("octree, pillow and control points");
-    ts = tmesh::build(maps, ctx.config.tmesh);
+    std::unique_ptr<tmesh::SlideSurface> dist;
+    if (ctx.config.tmesh.epsilon_rel > 0) {  // also measured without refinement (report key levels)
+      const surface::Mesh mesh = surface::mesh_from_json(surface, ctx.input_file("polycube"));
+      dist = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), surface::triangle_triples(mesh));
+      maps.surface_distance = [&dist](const tmesh::Vec3& x) {
+        const tmesh::Vec3 y = dist->closest(x);
+        return std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
+      };
+      Eigen::AlignedBox3d box;
+      for (const auto& v : surface::vertex_array(mesh)) box.extend(Eigen::Vector3d(v[0], v[1], v[2]));
+      maps.diagonal = box.diagonal().norm();
+    }
+    ts = tmesh::build(maps, ctx.config.tmesh, &levels);
+    std::map<int, int> per_level;
+    for (const int l : levels.level) ++per_level[l];
+    std::string counts;
+    for (const auto& [l, k] : per_level) counts += (counts.empty() ? "" : ", ") + std::to_string(k) + " at level " + std::to_string(l);
+    core::log("cubes: " + counts + " (adaptive levels: " + levels.stop + ", boundary deviation " + std::to_string(levels.deviation_rel) +
+              " of the diagonal, epsilon_rel " + std::to_string(ctx.config.tmesh.epsilon_rel) + ")");
   }
   double before = std::numeric_limits<double>::infinity();
   for (const auto& t : ts) before = std::min(before, tmesh::min_element_scaled_jacobian(t));
@@ -89,13 +111,15 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     core::LogSection s("write");
     core::Json list = core::Json::array();
     for (const auto& t : ts) list.push_back(tmesh::to_json(t));
-    core::write_stage_file(ctx.output_file(), "volts-tmesh", 2, {{"surface", surface}, {"tmeshes", list}});
+    core::write_stage_file(ctx.output_file(), "volts-tmesh", 3, {{"surface", surface}, {"tmeshes", list}});
     std::vector<std::pair<std::string, std::vector<double>>> extra;
     if (!opt.element_before.empty())
       extra = {{"bezier_scaled_jacobian_before", opt.element_before}, {"bezier_scaled_jacobian_after", opt.element_after}};
     after = tmesh::write_vtu(ctx.path("tmesh.vtu"), ts, extra);
   }
   core::Json fig = tmesh::report_figures(ts, before, after);
+  fig["levels"] = {{"stop", levels.stop}, {"refinements", levels.refinements}, {"cube_levels", levels.level},
+                   {"boundary_deviation_rel", levels.deviation_rel}, {"epsilon_rel", ctx.config.tmesh.epsilon_rel}};
   // The Bézier elements' sampled scaled Jacobian around optimization (trilinear figures above).
   fig["optimization"] = {{"sweeps", opt.sweeps}, {"nodes_moved", opt.nodes_moved},
                          {"bezier_min_scaled_jacobian_before", opt.min_before}, {"bezier_min_scaled_jacobian_after", opt.min_after},

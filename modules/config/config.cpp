@@ -236,6 +236,8 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("slide_sharp_curves", c.tmesh.slide_sharp_curves);
     s.get("rim_pillow_lenses", c.tmesh.rim_pillow_lenses);
     s.get("pillow_thickness", c.tmesh.pillow_thickness, {"physical", "parametric"});
+    s.get("epsilon_rel", c.tmesh.epsilon_rel, 0.0, 1.0);
+    s.get("max_level", c.tmesh.max_level, 1, 7);
     s.finish();
   }
   {
@@ -416,7 +418,9 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "slide_from" << YAML::Value << c.tmesh.slide_from;
   e << YAML::Key << "slide_sharp_curves" << YAML::Value << c.tmesh.slide_sharp_curves;
   e << YAML::Key << "rim_pillow_lenses" << YAML::Value << c.tmesh.rim_pillow_lenses;
-  e << YAML::Key << "pillow_thickness" << YAML::Value << c.tmesh.pillow_thickness << YAML::EndMap;
+  e << YAML::Key << "pillow_thickness" << YAML::Value << c.tmesh.pillow_thickness;
+  e << YAML::Key << "epsilon_rel" << YAML::Value << c.tmesh.epsilon_rel;
+  e << YAML::Key << "max_level" << YAML::Value << c.tmesh.max_level << YAML::EndMap;
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;

@@ -84,31 +84,69 @@ double point_tolerance(const Eigen::AlignedBox3d& box, double rel) {
 GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<bezier::BezierHex>& hexes, bool keep_operators) {
   const std::vector<std::vector<int>> ids = function_ids(ts);
   GlobalBasis g;
-  int count = 0;
+  int nodes = 0;
   Eigen::AlignedBox3d box;
   for (std::size_t b = 0; b < ts.size(); ++b)
     for (std::size_t i = 0; i < ids[b].size(); ++i) {
-      count = std::max(count, ids[b][i] + 1);
+      nodes = std::max(nodes, ids[b][i] + 1);
       box.extend(Eigen::Vector3d(ts[b].control_points[i][0], ts[b].control_points[i][1], ts[b].control_points[i][2]));
     }
   const double diagonal = box.isEmpty() ? 0.0 : box.diagonal().norm();
   const double tol = point_tolerance(box, 1e-12);
+  // T-junctions (TMesh::constraints) carry no function: their rows name the nodes that do.
+  std::vector<const tmesh::TMesh::Constraint*> row(static_cast<std::size_t>(nodes), nullptr);
+  std::vector<int> row_block(static_cast<std::size_t>(nodes), -1);
+  for (std::size_t b = 0; b < ts.size(); ++b)
+    for (const auto& k : ts[b].constraints) {
+      if (k.point < 0 || static_cast<std::size_t>(k.point) >= ids[b].size() || k.ids.size() != k.weights.size() || k.ids.empty())
+        throw core::InvalidInputError("extract: block " + std::to_string(b) + " has a malformed T-junction (point " + std::to_string(k.point) + ")");
+      const int id = ids[b][static_cast<std::size_t>(k.point)];
+      const auto*& r = row[static_cast<std::size_t>(id)];
+      if (!r) {
+        r = &k, row_block[static_cast<std::size_t>(id)] = static_cast<int>(b);
+      } else if (r->ids != k.ids || r->weights != k.weights) {
+        throw core::InvalidInputError("extract: node " + std::to_string(id) + " is a T-junction with different rows in blocks " +
+                                      std::to_string(row_block[static_cast<std::size_t>(id)]) + " and " + std::to_string(b));
+      }
+    }
+  // Functions: the nodes that are no T-junction, numbered in node order.
+  std::vector<int> function_of(static_cast<std::size_t>(nodes), -1);
+  int count = 0;
+  for (int id = 0; id < nodes; ++id)
+    if (!row[static_cast<std::size_t>(id)]) function_of[static_cast<std::size_t>(id)] = count++;
+  for (std::size_t id = 0; id < row.size(); ++id)
+    if (row[id])
+      for (const int m : row[id]->ids)
+        if (m < 0 || m >= nodes || row[static_cast<std::size_t>(m)])
+          throw core::InvalidInputError("extract: T-junction " + std::to_string(id) + " names node " + std::to_string(m) + ", which is no function");
   g.points.assign(count, Eigen::Vector3d::Zero());
   g.weights.assign(count, 1.0);
-  std::vector<int> owner(count, -1);  // block that first gave the function its point
+  std::vector<int> owner(nodes, -1);  // block that first gave the node its point
+  std::vector<Eigen::Vector3d> node_point(static_cast<std::size_t>(nodes), Eigen::Vector3d::Zero());
   for (std::size_t b = 0; b < ts.size(); ++b)
     for (std::size_t i = 0; i < ids[b].size(); ++i) {
       const int id = ids[b][i];
       const Eigen::Vector3d p(ts[b].control_points[i][0], ts[b].control_points[i][1], ts[b].control_points[i][2]);
       if (owner[id] < 0) {
-        owner[id] = static_cast<int>(b), g.points[id] = p;
-      } else if ((g.points[id] - p).norm() > tol) {
+        owner[id] = static_cast<int>(b), node_point[static_cast<std::size_t>(id)] = p;
+      } else if ((node_point[static_cast<std::size_t>(id)] - p).norm() > tol) {
         throw core::InvalidInputError("extract: function " + std::to_string(id) + " has different control points in blocks " +
                                       std::to_string(owner[id]) + " and " + std::to_string(b));
       }
     }
-  for (int id = 0; id < count; ++id)
+  for (int id = 0; id < nodes; ++id) {
     if (owner[id] < 0) throw core::InvalidInputError("extract: function id " + std::to_string(id) + " belongs to no control point");
+    if (function_of[static_cast<std::size_t>(id)] >= 0) g.points[function_of[static_cast<std::size_t>(id)]] = node_point[static_cast<std::size_t>(id)];
+  }
+  for (int id = 0; id < nodes; ++id) {
+    const auto* r = row[static_cast<std::size_t>(id)];
+    if (!r) continue;
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < r->ids.size(); ++k) x += r->weights[k] * node_point[static_cast<std::size_t>(r->ids[k])];
+    if (!((x - node_point[static_cast<std::size_t>(id)]).norm() <= tol))
+      throw core::InvalidInputError("extract: T-junction " + std::to_string(id) + " is not where its row puts it (off by " +
+                                    std::to_string((x - node_point[static_cast<std::size_t>(id)]).norm()) + ")");
+  }
 
   // 1-D operators per block (canonical rows: serial, the first row seen wins), then the block
   // and spans of every element.
@@ -162,12 +200,41 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
           local[a + q * (bb + q * c)] = ids[b][i + t.size[0] * (j + t.size[1] * k)];
         }
     ExtractionElement el;
-    el.functions = local;
-    std::sort(el.functions.begin(), el.functions.end());
-    el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
     const Eigen::MatrixXd& Cu = ops[0][ea];
     const Eigen::MatrixXd& Cv = ops[1][eb];
     const Eigen::MatrixXd& Cw = ops[2][ec];
+    if (std::any_of(local.begin(), local.end(), [&](int id) { return row[static_cast<std::size_t>(id)] != nullptr; })) {
+      // With T-junctions: local function l contributes to the functions of its node's row.
+      for (const int id : local)
+        if (const auto* r = row[static_cast<std::size_t>(id)]) {
+          for (const int m : r->ids) el.functions.push_back(function_of[static_cast<std::size_t>(m)]);
+        } else {
+          el.functions.push_back(function_of[static_cast<std::size_t>(id)]);
+        }
+      std::sort(el.functions.begin(), el.functions.end());
+      el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
+      const int nb = q * q * q;
+      Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(el.functions.size()), nb);
+      auto index = [&](int f) { return std::lower_bound(el.functions.begin(), el.functions.end(), f) - el.functions.begin(); };
+      for (int l = 0; l < nb; ++l) {
+        const int a = l % q, bb = (l / q) % q, c = l / (q * q);
+        Eigen::RowVectorXd kron(nb);
+        for (int cw = 0; cw < q; ++cw)
+          for (int cv = 0; cv < q; ++cv)
+            for (int cu = 0; cu < q; ++cu) kron[cu + q * (cv + q * cw)] = Cu(a, cu) * Cv(bb, cv) * Cw(c, cw);
+        const int id = local[static_cast<std::size_t>(l)];
+        if (const auto* r = row[static_cast<std::size_t>(id)]) {
+          for (std::size_t k = 0; k < r->ids.size(); ++k) dense.row(index(function_of[static_cast<std::size_t>(r->ids[k])])) += r->weights[k] * kron;
+        } else {
+          dense.row(index(function_of[static_cast<std::size_t>(id)])) += kron;
+        }
+      }
+      el.op = dense.sparseView(0.0, 0.0);
+    } else {
+    for (int& id : local) id = function_of[static_cast<std::size_t>(id)];
+    el.functions = local;
+    std::sort(el.functions.begin(), el.functions.end());
+    el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
     // Columns of the nonzero entries of every 1-D operator row: a product with a zero factor is
     // zero, so only these products are formed (a tenth of all (p+1)^3 columns).
     std::array<std::vector<std::vector<int>>, 3> nonzero;
@@ -219,6 +286,7 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
         }
     }
     el.op.finalize();
+    }
     // Partition of unity and reproduction of the extracted hex.
     const bezier::BezierHex& h = hexes[e];
     if (h.num_points() != q * q * q) {

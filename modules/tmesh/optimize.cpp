@@ -61,6 +61,16 @@ class Spline {
         count = std::max(count, id + 1);
       }
     occurrences_.resize(static_cast<std::size_t>(count));
+    // T-junctions follow the nodes of their rows; until moves carry them along, both stay put.
+    pinned_.assign(static_cast<std::size_t>(count), 0);
+    for (std::size_t b = 0; b < blocks.size(); ++b)
+      for (const auto& k : blocks[b].constraints) {
+        pinned_[static_cast<std::size_t>(point_id_[b].at(static_cast<std::size_t>(k.point)))] = 1;
+        for (const int m : k.ids) {
+          if (m < 0 || m >= count) throw core::InvalidInputError("tmesh optimization: a T-junction names node " + std::to_string(m) + ", which no block has");
+          pinned_[static_cast<std::size_t>(m)] = 1;
+        }
+      }
     for (std::size_t b = 0; b < blocks.size(); ++b)
       for (std::size_t i = 0; i < point_id_[b].size(); ++i)
         occurrences_[static_cast<std::size_t>(point_id_[b][i])].push_back({static_cast<int>(b), static_cast<int>(i)});
@@ -191,6 +201,9 @@ class Spline {
     for (const auto& [b, i] : occurrences_[static_cast<std::size_t>(id)]) blocks_[static_cast<std::size_t>(b)].control_points[static_cast<std::size_t>(i)] = x;
   }
 
+  // A T-junction or a node one depends on (TMesh::constraints): never moved.
+  bool pinned(int id) const { return pinned_[static_cast<std::size_t>(id)] != 0; }
+
   // On the surface: on a block face marked boundary in any block it belongs to.
   bool on_surface(int id) const {
     for (const auto& [b, i] : occurrences_[static_cast<std::size_t>(id)]) {
@@ -233,6 +246,7 @@ class Spline {
   std::vector<std::vector<std::pair<int, int>>> occurrences_;  // per id: (block, local index)
   std::vector<std::vector<int>> point_id_;                      // per block and local index: id
   std::vector<std::vector<int>> node_elements_;                 // per id: elements it supports, ascending
+  std::vector<char> pinned_;                                    // per id: pinned()
 };
 
 // Row x (dx/du, dx/dv, dx/dw) of bezier::jacobian_samples of a polynomial hex of degree p in each
@@ -330,7 +344,7 @@ std::vector<int> fresh_nodes(const Spline& s, std::size_t e, std::set<int>& visi
   std::vector<int> nodes;
   for (const int local : s.points_of(e)) {
     const int id = s.id_of(s.block_of(e), local);
-    if ((surface_too || !s.on_surface(id)) && visited.insert(id).second) nodes.push_back(id);
+    if (!s.pinned(id) && (surface_too || !s.on_surface(id)) && visited.insert(id).second) nodes.push_back(id);
   }
   return nodes;
 }
@@ -709,7 +723,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         if (static_cast<std::size_t>(id) >= var_of.size()) var_of.resize(static_cast<std::size_t>(id) + 1, -1);
         if (var_of[static_cast<std::size_t>(id)] != -1) continue;
         SlideFrame f;
-        if (s.on_surface(id) && !(surface && slide_frame(s, *surface, id, params.slide_sharp_curves, f))) {
+        if (s.pinned(id) || (s.on_surface(id) && !(surface && slide_frame(s, *surface, id, params.slide_sharp_curves, f)))) {
           var_of[static_cast<std::size_t>(id)] = -2;
           continue;
         }

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -131,19 +132,110 @@ class PointIds {
 
 }  // namespace
 
-std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params) {
+namespace {
+
+// Control point index of (i, j) on face 2*axis + side of block t: i along axis (axis+1)%3, j
+// along (axis+2)%3.
+std::size_t face_point(const TMesh& t, int face, int i, int j) {
+  const int a = face / 2;
+  std::array<int, 3> idx{};
+  idx[static_cast<std::size_t>(a)] = face % 2 ? t.size[a] - 1 : 0;
+  idx[static_cast<std::size_t>((a + 1) % 3)] = i;
+  idx[static_cast<std::size_t>((a + 2) % 3)] = j;
+  return static_cast<std::size_t>(idx[0] + t.size[0] * (idx[1] + t.size[1] * idx[2]));
+}
+std::array<int, 2> face_size(const TMesh& t, int face) { return {t.size[(face / 2 + 1) % 3], t.size[(face / 2 + 2) % 3]}; }
+
+// Knots of `k` read backwards (u -> 1 - u).
+std::vector<double> reversed(const std::vector<double>& k) {
+  std::vector<double> r;
+  for (auto it = k.rbegin(); it != k.rend(); ++it) r.push_back(1.0 - *it);
+  return r;
+}
+
+using Row = std::map<int, double>;
+
+// The T-junction rows of the finer face (fine block bf, face ff) that meets the coarser face (bc,
+// fc) corner to corner: each fine point = the knot-insertion combination of the coarse face's
+// points (a tensor product of the two 1-D refinement matrices, oriented by the shared corners).
+void face_rows(const std::vector<TMesh>& blocks, const std::vector<std::vector<int>>& pos, const std::vector<std::vector<int>>& ids,
+               std::size_t bf, int ff, std::size_t bc, int fc, std::map<int, Row>* rows) {
+  const TMesh& f = blocks[bf];
+  const TMesh& c = blocks[bc];
+  const auto nf = face_size(f, ff), nc = face_size(c, fc);
+  auto corner = [&](const TMesh& t, std::size_t b, int face, std::array<int, 2> n, int i, int j) {
+    return pos[b][face_point(t, face, i * (n[0] - 1), j * (n[1] - 1))];
+  };
+  // Coarse face corner (s, t) of each fine face corner (0,0), (1,0), (0,1).
+  std::map<int, std::array<int, 2>> coarse_corner;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) coarse_corner[corner(c, bc, fc, nc, i, j)] = {i, j};
+  std::array<std::array<int, 2>, 3> at{};
+  const std::array<std::array<int, 2>, 3> fine_corners{{{0, 0}, {1, 0}, {0, 1}}};
+  for (int k = 0; k < 3; ++k) {
+    const auto it = coarse_corner.find(corner(f, bf, ff, nf, fine_corners[static_cast<std::size_t>(k)][0], fine_corners[static_cast<std::size_t>(k)][1]));
+    if (it == coarse_corner.end() || coarse_corner.size() != 4)
+      throw core::TopologyError("tmesh: blocks " + std::to_string(bf) + " and " + std::to_string(bc) + " do not meet corner to corner");
+    at[static_cast<std::size_t>(k)] = it->second;
+  }
+  // along[d]: the coarse face direction of fine direction d; flip[d]: reversed.
+  std::array<int, 2> along{}, flip{};
+  if (at[1][0] != at[0][0] && at[1][1] == at[0][1] && at[2][1] != at[0][1] && at[2][0] == at[0][0]) {
+    along = {0, 1};
+  } else if (at[1][1] != at[0][1] && at[1][0] == at[0][0] && at[2][0] != at[0][0] && at[2][1] == at[0][1]) {
+    along = {1, 0};
+  } else {
+    throw core::TopologyError("tmesh: blocks " + std::to_string(bf) + " and " + std::to_string(bc) + " meet on a degenerate face");
+  }
+  for (int d = 0; d < 2; ++d) flip[static_cast<std::size_t>(d)] = at[0][static_cast<std::size_t>(along[static_cast<std::size_t>(d)])];
+  std::array<Eigen::MatrixXd, 2> R;
+  for (int d = 0; d < 2; ++d) {
+    const auto& kf = f.knots[static_cast<std::size_t>((ff / 2 + 1 + d) % 3)];
+    const auto& kc = c.knots[static_cast<std::size_t>((fc / 2 + 1 + along[static_cast<std::size_t>(d)]) % 3)];
+    R[static_cast<std::size_t>(d)] = bezier::refinement_matrix(kc, flip[static_cast<std::size_t>(d)] ? reversed(kf) : kf, f.degree);
+  }
+  for (int j = 0; j < nf[1]; ++j)
+    for (int i = 0; i < nf[0]; ++i) {
+      const int id = ids[bf][face_point(f, ff, i, j)];
+      if (rows->count(id)) continue;
+      const int ii = flip[0] ? nf[0] - 1 - i : i, jj = flip[1] ? nf[1] - 1 - j : j;
+      Row row;
+      for (int b = 0; b < R[1].rows(); ++b) {
+        const double wb = R[1](b, jj);
+        if (wb == 0.0) continue;
+        for (int a = 0; a < R[0].rows(); ++a) {
+          const double w = R[0](a, ii) * wb;
+          if (w == 0.0) continue;
+          std::array<int, 2> st{};
+          st[static_cast<std::size_t>(along[0])] = a, st[static_cast<std::size_t>(along[1])] = b;
+          row[ids[bc][face_point(c, fc, st[0], st[1])]] += w;
+        }
+      }
+      (*rows)[id] = std::move(row);
+    }
+}
+
+}  // namespace
+
+std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const std::vector<int>& levels) {
   check(params);
   const int n = 1 << params.level;
+  const std::size_t cubes = maps.blocks.empty() ? maps.boundary.size() : maps.blocks.size();
+  if (levels.size() != cubes)
+    throw core::ConfigError("tmesh: " + std::to_string(levels.size()) + " levels for " + std::to_string(cubes) + " cubes");
+  for (const int l : levels)
+    if (l < params.level || l > 7) throw core::ConfigError("tmesh: a cube's level " + std::to_string(l) + " is outside [tmesh.level, 7]");
   std::vector<TMesh> blocks;
   std::vector<std::vector<Vec3>> keys;
   double extent = 0;
-  const std::size_t cubes = maps.blocks.empty() ? maps.boundary.size() : maps.blocks.size();
   core::Progress progress("blocks", cubes);
   for (std::size_t k = 0; k < cubes; ++k) {
     const int cube = static_cast<int>(k);
+    const int split = 1 << (levels[k] - params.level);  // every element split in 2^3 per level
     for (const Block& b : maps.blocks.empty() ? cube_blocks(maps.boundary[k], {n, n, n}, params.pillow_layers) : maps.blocks[k]) {
-      TMesh t = build_block([&](const Vec3& uvw) { return maps.physical(cube, block_point(b.corners, uvw)); }, params.degree, b.elements);
-      t.level = params.level;
+      const std::array<int, 3> elements{b.elements[0] * split, b.elements[1] * split, b.elements[2] * split};
+      TMesh t = build_block([&](const Vec3& uvw) { return maps.physical(cube, block_point(b.corners, uvw)); }, params.degree, elements);
+      t.level = levels[k];
       t.boundary = b.boundary;
       t.component = cube;
       t.corners = b.corners;
@@ -159,21 +251,232 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params) {
     progress.step(k);
   }
   progress.finish();
-  // Shared control points: equal polycube points. Their positions agree to rounding (the same
-  // face data interpolated in another order); the first block's value is kept so that the Bézier
-  // elements on both sides of a block face are exactly conforming.
-  PointIds ids(1e-9 * std::max(extent, 1.0));
+  // Shared control points: equal polycube points of blocks of one level. Their positions agree to
+  // rounding (the same face data interpolated in another order); the first block's value is kept
+  // so that the Bézier elements on both sides of a block face are exactly conforming. Points of
+  // different levels are different nodes even where they coincide: the finer one is a T-junction.
+  PointIds positions(1e-9 * std::max(extent, 1.0));
+  std::vector<std::vector<int>> pos(blocks.size());
+  std::map<std::pair<int, int>, int> node;  // (position, level) -> id
   std::vector<Vec3> position;
+  std::vector<int> level_of, position_of;
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     TMesh& t = blocks[b];
     t.function_ids.resize(t.control_points.size());
     for (std::size_t i = 0; i < t.control_points.size(); ++i) {
-      const int id = ids.id(keys[b][i]);
-      t.function_ids[i] = id;
-      if (id == static_cast<int>(position.size())) position.push_back(t.control_points[i]);
-      else t.control_points[i] = position[static_cast<std::size_t>(id)];
+      pos[b].push_back(positions.id(keys[b][i]));
+      const auto [it, fresh] = node.insert({{pos[b].back(), t.level}, static_cast<int>(position.size())});
+      t.function_ids[i] = it->second;
+      if (fresh) {
+        position.push_back(t.control_points[i]), level_of.push_back(t.level), position_of.push_back(pos[b].back());
+      } else {
+        t.control_points[i] = position[static_cast<std::size_t>(it->second)];
+      }
     }
   }
+  // T-junctions: block faces that meet corner to corner with different levels.
+  std::map<std::array<int, 4>, std::vector<std::pair<std::size_t, int>>> faces;
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (int f = 0; f < 6; ++f) {
+      if (blocks[b].boundary[static_cast<std::size_t>(f)]) continue;
+      const auto nf = face_size(blocks[b], f);
+      std::array<int, 4> key{};
+      for (int c = 0; c < 4; ++c) key[static_cast<std::size_t>(c)] = pos[b][face_point(blocks[b], f, (c & 1) * (nf[0] - 1), (c >> 1) * (nf[1] - 1))];
+      std::sort(key.begin(), key.end());
+      faces[key].push_back({b, f});
+    }
+  // Levels that differ need every inner block face to be the whole face of exactly one other
+  // block: a face met by parts of several (a cube cut along a sharp line next to an uncut one)
+  // would leave finer nodes inside a coarser face that no row ties to it (a crack).
+  if (std::adjacent_find(levels.begin(), levels.end(), std::not_equal_to<>()) != levels.end())
+    for (const auto& [key, list] : faces)
+      if (list.size() != 2)
+        throw core::TopologyError("tmesh: levels differ between cubes, but face " + std::to_string(list[0].second) + " of block " +
+                                  std::to_string(list[0].first) + " (cube " + std::to_string(blocks[list[0].first].component) + ") is " +
+                                  (list.size() == 1 ? "not the whole face of another block" : "shared by more than two blocks"));
+  std::map<int, Row> rows;
+  std::vector<std::vector<int>> ids;
+  for (const auto& t : blocks) ids.push_back(t.function_ids);
+  for (const auto& [key, list] : faces) {
+    if (list.size() != 2) continue;
+    auto [fine, coarse] = std::pair{list[0], list[1]};
+    if (blocks[fine.first].level == blocks[coarse.first].level) continue;
+    if (blocks[fine.first].level < blocks[coarse.first].level) std::swap(fine, coarse);
+    face_rows(blocks, pos, ids, fine.first, fine.second, coarse.first, coarse.second, &rows);
+  }
+  if (!rows.empty()) {
+    // A row may name T-junctions of a coarser level in turn (three levels at a face): substitute
+    // until every row names free nodes only; each substitution goes one level coarser.
+    for (int pass = 0;; ++pass) {
+      bool changed = false;
+      for (auto& [id, row] : rows) {
+        Row out;
+        for (const auto& [m, w] : row) {
+          const auto it = rows.find(m);
+          if (it == rows.end()) out[m] += w;
+          else for (const auto& [m2, w2] : it->second) out[m2] += w * w2, changed = true;
+        }
+        row = std::move(out);
+      }
+      if (!changed) break;
+      if (pass > 8) throw core::TopologyError("tmesh: T-junction constraints form a cycle");
+    }
+    // Every finer node where a coarser one lies must be a T-junction, or the spline has a crack there.
+    std::map<int, int> coarsest;  // position -> lowest level there
+    for (std::size_t id = 0; id < position.size(); ++id) {
+      auto [it, fresh] = coarsest.insert({position_of[id], level_of[id]});
+      if (!fresh) it->second = std::min(it->second, level_of[id]);
+    }
+    for (std::size_t id = 0; id < position.size(); ++id)
+      if (level_of[id] > coarsest[position_of[id]] && !rows.count(static_cast<int>(id)))
+        throw core::TopologyError("tmesh: cubes of levels " + std::to_string(coarsest[position_of[id]]) + " and " + std::to_string(level_of[id]) +
+                                  " meet where their blocks do not share whole faces (node " + std::to_string(id) + ")");
+    for (auto& [id, row] : rows) {
+      Vec3 x{0, 0, 0};
+      for (const auto& [m, w] : row)
+        for (int d = 0; d < 3; ++d) x[static_cast<std::size_t>(d)] += w * position[static_cast<std::size_t>(m)][static_cast<std::size_t>(d)];
+      position[static_cast<std::size_t>(id)] = x;
+    }
+    for (TMesh& t : blocks)
+      for (std::size_t i = 0; i < t.control_points.size(); ++i) {
+        const auto it = rows.find(t.function_ids[i]);
+        if (it == rows.end()) continue;
+        t.control_points[i] = position[static_cast<std::size_t>(it->first)];
+        TMesh::Constraint c;
+        c.point = static_cast<int>(i);
+        for (const auto& [m, w] : it->second) c.ids.push_back(m), c.weights.push_back(w);
+        t.constraints.push_back(std::move(c));
+      }
+  } else {
+    // Without T-junctions, points of different levels must not touch at all.
+    std::map<int, int> level_at;
+    for (std::size_t id = 0; id < position.size(); ++id) {
+      auto [it, fresh] = level_at.insert({position_of[id], level_of[id]});
+      if (!fresh && it->second != level_of[id])
+        throw core::TopologyError("tmesh: cubes of levels " + std::to_string(std::min(it->second, level_of[id])) + " and " +
+                                  std::to_string(std::max(it->second, level_of[id])) + " meet where their blocks do not share whole faces");
+    }
+  }
+  return blocks;
+}
+
+std::vector<double> boundary_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance) {
+  int components = 0;
+  for (const auto& t : ts) components = std::max(components, t.component + 1);
+  std::vector<double> dev(static_cast<std::size_t>(components), 0.0);
+  for (const TMesh& t : ts) {
+    bezier::TensorBSplineVolume vol;
+    vol.degree = {t.degree, t.degree, t.degree};
+    vol.knots = t.knots;
+    for (const auto& p : t.control_points) vol.points.emplace_back(p[0], p[1], p[2]);
+    // Element corners and midpoints per direction.
+    std::array<std::vector<double>, 3> g;
+    for (int a = 0; a < 3; ++a)
+      for (const auto& iv : bezier::element_intervals(t.knots[static_cast<std::size_t>(a)], t.degree)) {
+        if (g[static_cast<std::size_t>(a)].empty()) g[static_cast<std::size_t>(a)].push_back(iv[0]);
+        g[static_cast<std::size_t>(a)].push_back(0.5 * (iv[0] + iv[1]));
+        g[static_cast<std::size_t>(a)].push_back(iv[1]);
+      }
+    double& d = dev[static_cast<std::size_t>(t.component)];
+    for (int f = 0; f < 6; ++f) {
+      if (!t.boundary[static_cast<std::size_t>(f)]) continue;
+      const int a = f / 2, u = (a + 1) % 3, v = (a + 2) % 3;
+      for (const double x : g[static_cast<std::size_t>(u)])
+        for (const double y : g[static_cast<std::size_t>(v)]) {
+          Eigen::Vector3d q;
+          q[a] = f % 2 ? g[static_cast<std::size_t>(a)].back() : g[static_cast<std::size_t>(a)].front();
+          q[u] = x, q[v] = y;
+          const Eigen::Vector3d p = bezier::evaluate(vol, q);
+          d = std::max(d, distance({p[0], p[1], p[2]}));
+        }
+    }
+  }
+  return dev;
+}
+
+std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels* out) {
+  check(params);
+  if (!(params.epsilon_rel >= 0 && params.epsilon_rel <= 1))
+    throw core::ConfigError("tmesh.epsilon_rel must be in [0, 1], got " + std::to_string(params.epsilon_rel));
+  if (params.max_level < 1 || params.max_level > 7) throw core::ConfigError("tmesh.max_level must be in [1, 7], got " + std::to_string(params.max_level));
+  const std::size_t cubes = maps.blocks.empty() ? maps.boundary.size() : maps.blocks.size();
+  Levels lv;
+  lv.level.assign(cubes, params.level);
+  std::vector<TMesh> blocks = build(maps, params, lv.level);
+  const bool measure = maps.surface_distance && maps.diagonal > 0;
+  const bool adaptive = measure && params.epsilon_rel > 0 && params.max_level > params.level;
+  lv.stop = "disabled";
+  if (measure && !adaptive) {
+    const std::vector<double> dev = boundary_deviation(blocks, maps.surface_distance);
+    lv.deviation_rel = dev.empty() ? 0.0 : *std::max_element(dev.begin(), dev.end()) / maps.diagonal;
+  }
+  if (adaptive) {
+    const double tol = params.epsilon_rel * maps.diagonal;
+    // Cubes that share a point (2:1 balance across faces, edges and corners).
+    std::vector<std::set<int>> near(cubes);
+    {
+      std::map<std::array<long long, 3>, std::set<int>> at;
+      for (const TMesh& t : blocks)
+        for (const auto& x : t.control_points) at[{std::llround(x[0] / (1e-9 * maps.diagonal)), std::llround(x[1] / (1e-9 * maps.diagonal)),
+                                                   std::llround(x[2] / (1e-9 * maps.diagonal))}].insert(t.component);
+      for (const auto& [key, set] : at)
+        for (const int a : set)
+          for (const int b : set)
+            if (a != b) near[static_cast<std::size_t>(a)].insert(b);
+    }
+    // A cube whose deviation a level did not lower by kGain is saturated: what is left is the
+    // input's own faceting (the volume map's boundary is the triangulated surface, which a smooth
+    // spline through its points misses by the facets' sagitta at any level).
+    constexpr double kGain = 0.8;
+    std::vector<double> dev = boundary_deviation(blocks, maps.surface_distance), last;
+    std::vector<int> previous;
+    std::vector<char> saturated(cubes, 0);
+    for (;;) {
+      if (!last.empty()) {
+        bool gained = false;
+        for (std::size_t c = 0; c < cubes && c < dev.size(); ++c) {
+          if (lv.level[c] == previous[c] || last[c] <= tol) continue;  // not refined for its own deviation
+          if (dev[c] <= kGain * last[c]) gained = true;
+          else saturated[c] = 1;
+        }
+        if (!gained) {  // the last round bought elements and no accuracy: undo it
+          lv.level = previous, --lv.refinements, dev = last;
+          blocks = build(maps, params, lv.level);
+          lv.stop = "no_gain";
+          break;
+        }
+      }
+      std::vector<int> next = lv.level;
+      bool refine = false, capped = false;
+      for (std::size_t c = 0; c < cubes; ++c)
+        if (c < dev.size() && dev[c] > tol && !saturated[c]) {
+          if (next[c] < params.max_level) ++next[c], refine = true;
+          else capped = true;
+        }
+      if (!refine) {
+        lv.stop = capped ? "max_level" : std::any_of(saturated.begin(), saturated.end(), [](char x) { return x != 0; }) ? "no_gain" : "within_epsilon";
+        break;
+      }
+      for (bool changed = true; changed;) {  // 2:1: raise the coarser of two near cubes
+        changed = false;
+        for (std::size_t c = 0; c < cubes; ++c)
+          for (const int o : near[c])
+            if (next[c] < next[static_cast<std::size_t>(o)] - 1) next[c] = next[static_cast<std::size_t>(o)] - 1, changed = true;
+      }
+      try {
+        blocks = build(maps, params, next);
+      } catch (const core::TopologyError& e) {
+        core::log_warning(std::string("tmesh: adaptive levels stop: ") + e.what());
+        lv.stop = "not_face_to_face";  // `blocks` are still those of lv.level
+        break;
+      }
+      previous = lv.level, lv.level = next, last = dev;
+      ++lv.refinements;
+      dev = boundary_deviation(blocks, maps.surface_distance);
+    }
+    lv.deviation_rel = dev.empty() ? 0.0 : *std::max_element(dev.begin(), dev.end()) / maps.diagonal;
+  }
+  if (out) *out = lv;
   return blocks;
 }
 
@@ -201,7 +504,11 @@ core::Json to_json(const TMesh& t) {
   for (const auto& p : t.parameters) par.insert(par.end(), p.begin(), p.end());
   return core::Json{{"level", t.level}, {"degree", t.degree}, {"knots", t.knots}, {"size", t.size},
                     {"control_points", cp}, {"parameters", par}, {"boundary", t.boundary}, {"component", t.component},
-                    {"corners", t.corners}, {"kind", t.kind}, {"function_ids", t.function_ids}};
+                    {"corners", t.corners}, {"kind", t.kind}, {"function_ids", t.function_ids}, {"constraints", [&] {
+                      core::Json c = core::Json::array();
+                      for (const auto& k : t.constraints) c.push_back({{"point", k.point}, {"ids", k.ids}, {"weights", k.weights}});
+                      return c;
+                    }()}};
 }
 
 TMesh from_json(const core::Json& j, const std::string& file) {
@@ -245,6 +552,27 @@ TMesh from_json(const core::Json& j, const std::string& file) {
       if (id < 0) throw core::InvalidInputError(file + ": tmesh function_ids holds a negative id");
     for (const double x : cp)
       if (!std::isfinite(x)) throw core::InvalidInputError(file + ": a tmesh control point is not finite");
+    if (j.contains("constraints"))
+      for (const auto& k : j["constraints"]) {
+        TMesh::Constraint c;
+        c.point = core::require(k, "point", file).get<int>();
+        c.ids = core::require(k, "ids", file).get<std::vector<int>>();
+        c.weights = core::require(k, "weights", file).get<std::vector<double>>();
+        if (c.point < 0 || static_cast<std::size_t>(c.point) >= n || (!t.constraints.empty() && c.point <= t.constraints.back().point))
+          throw core::InvalidInputError(file + ": tmesh constraint point " + std::to_string(c.point) + " out of range or order");
+        if (t.function_ids.empty()) throw core::InvalidInputError(file + ": tmesh constraints without function_ids");
+        if (c.ids.empty() || c.ids.size() != c.weights.size())
+          throw core::InvalidInputError(file + ": tmesh constraint of point " + std::to_string(c.point) + " has " + std::to_string(c.ids.size()) +
+                                        " ids and " + std::to_string(c.weights.size()) + " weights");
+        double sum = 0;
+        for (std::size_t k2 = 0; k2 < c.ids.size(); ++k2) {
+          if (c.ids[k2] < 0 || !std::isfinite(c.weights[k2])) throw core::InvalidInputError(file + ": tmesh constraint with a negative id or a weight that is not finite");
+          sum += c.weights[k2];
+        }
+        if (!(std::abs(sum - 1) <= 1e-9))
+          throw core::InvalidInputError(file + ": tmesh constraint of point " + std::to_string(c.point) + " has weights summing to " + std::to_string(sum) + ", not 1");
+        t.constraints.push_back(std::move(c));
+      }
     for (std::size_t i = 0; i < n; ++i) {
       t.control_points.push_back({cp[3 * i], cp[3 * i + 1], cp[3 * i + 2]});
       t.parameters.push_back({par[3 * i], par[3 * i + 1], par[3 * i + 2]});
@@ -321,8 +649,10 @@ void for_each_trilinear_element(const TMesh& t, F&& f) {
 NodeCounts count_nodes(const std::vector<TMesh>& ts) {
   NodeCounts c;
   const auto ids = global_ids(ts, &c.nodes);
-  std::vector<char> on_surface(static_cast<std::size_t>(c.nodes), 0);
+  std::vector<char> on_surface(static_cast<std::size_t>(c.nodes), 0), junction(static_cast<std::size_t>(c.nodes), 0);
   std::vector<std::set<int>> nb(static_cast<std::size_t>(c.nodes));
+  for (std::size_t b = 0; b < ts.size(); ++b)
+    for (const auto& k : ts[b].constraints) junction[static_cast<std::size_t>(ids[b][static_cast<std::size_t>(k.point)])] = 1;
   for (std::size_t b = 0; b < ts.size(); ++b) {
     const TMesh& t = ts[b];
     for (int k = 0; k < t.size[2]; ++k)
@@ -347,6 +677,11 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
   for (int v = 0; v < c.nodes; ++v) {
     const auto& n = nb[static_cast<std::size_t>(v)];
     if (n.empty()) continue;  // an id no block uses
+    if (junction[static_cast<std::size_t>(v)]) {
+      ++c.t_junctions;
+      if (on_surface[static_cast<std::size_t>(v)]) ++c.surface;
+      continue;
+    }
     if (on_surface[static_cast<std::size_t>(v)]) {
       ++c.surface;
       int on = 0;
@@ -368,15 +703,19 @@ double min_element_scaled_jacobian(const TMesh& t) {
 core::Json report_figures(const std::vector<TMesh>& ts, double before, double after) {
   const NodeCounts nc = count_nodes(ts);
   std::size_t control_points = 0;
-  int elements = 0, level = 0;
+  int elements = 0, level = 0, min_level = ts.empty() ? 0 : ts.front().level;
   std::set<int> cubes;
   for (const auto& t : ts) {
     control_points += t.control_points.size();
     elements += t.elements();
     level = std::max(level, t.level);
+    min_level = std::min(min_level, t.level);
     cubes.insert(t.component);
   }
   return core::Json{{"nodes", nc.nodes},
+                    {"functions", nc.nodes - nc.t_junctions},
+                    {"t_junctions", nc.t_junctions},
+                    {"min_level", min_level},
                     {"control_points", control_points},
                     {"cubes", cubes.size()},
                     {"blocks", ts.size()},

@@ -6,9 +6,14 @@
 // (so the boundary rows interpolate the surface map: the spline boundary is on the input surface
 // to the interpolation error), shared control points across block faces, and optimization of the
 // worst Jacobian (optimize.h; surface nodes slide along the input surface, slide_surface.h).
-// Adaptive refinement with T-junctions (modules/octree, modules/tspline exist, not wired) is not
-// done yet (issue 7); sharp curves inside a face become block faces only on tori
-// (polycube.sharp_lines, off by default).
+// Adaptivity per cube (§5.1, coarser than the paper's per element): a cube goes one octree
+// level finer (every element of its blocks split in eight) while its boundary deviates from the
+// input surface by more than ε, with 2:1 balance between cubes; where levels differ across a
+// block face the finer side's control points there are T-junctions, the knot-insertion
+// combinations of the coarser side's (TMesh::constraints), so the spline is C0 there and its
+// basis a partition of unity. The octree T-spline inside a cube (modules/octree, modules/tspline
+// exist, not wired) is not done yet (issue 7); sharp curves inside a face become block faces only
+// on tori (polycube.sharp_lines, off by default).
 #pragma once
 
 #include <array>
@@ -61,6 +66,15 @@ struct Params {
   /// physical_pillow): "physical" (one thickness in the solid along every axis) or "parametric"
   /// (one thickness in every cube's parameters, as before session 25).
   std::string pillow_thickness = "physical";
+  /// Adaptive levels (Liu et al. §5.1): a cube goes one level finer while the boundary faces of
+  /// its blocks deviate from the input surface by more than `epsilon_rel` × the surface's
+  /// bounding-box diagonal (sampled at element corners and midpoints, before optimization), up to
+  /// `max_level` and while a level lowers its deviation by a fifth at least (Levels::stop);
+  /// cubes that share a point differ by at most one level (2:1). 0 = every cube at `level`
+  /// [0, 1] (dimensionless).
+  double epsilon_rel = 0.005;
+  /// The finest level adaptivity may reach; at or below `level` there is no refinement [1, 7].
+  int max_level = 4;
 };
 
 using Vec3 = std::array<double, 3>;
@@ -84,10 +98,20 @@ struct TMesh {
   /// cube parameters trilinearly. Default: the whole cube.
   std::array<Vec3, 8> corners{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}}};
   std::string kind = "cube";                           ///< "cube" (not pillowed), "core" or "pillow"
-  /// Global basis-function id of each control point. Blocks (tensor patches) that share a face
+  /// Global node id of each control point. Blocks (tensor patches) that share a face
   /// have identical control points there and give them the same id, so the spline is C0 across
   /// the face. Empty: ids are numbered block after block (no sharing).
   std::vector<int> function_ids;
+  /// A T-junction: control point `point` of a block whose level is finer than its neighbour's
+  /// across a block face carries no function of its own; it is sum_k weights[k] × the control
+  /// point of node ids[k] (the knot-insertion refinement of the coarser face, so both sides are
+  /// one surface there). ids are nodes without a constraint; weights sum to one.
+  struct Constraint {
+    int point = 0;
+    std::vector<int> ids;
+    std::vector<double> weights;
+  };
+  std::vector<Constraint> constraints;  ///< ascending `point`; empty without T-junctions
   int elements() const;  ///< product of the knot spans in the three directions
 };
 
@@ -114,13 +138,42 @@ struct PolycubeMaps {
   std::vector<std::vector<Block>> blocks;
   std::function<Vec3(int, const Vec3&)> physical;
   std::function<Vec3(int, const Vec3&)> polycube;
+  /// Optional, for adaptive levels (Params::epsilon_rel): distance of a point to the input
+  /// surface, and the surface's bounding-box diagonal. Empty: every cube at Params::level.
+  std::function<double(const Vec3&)> surface_distance;
+  double diagonal = 0;
+};
+
+/// What build() chose: the level of each cube (maps' order) and the sampled boundary deviation
+/// of the result relative to the diagonal (0 without a surface_distance).
+struct Levels {
+  std::vector<int> level;
+  double deviation_rel = 0;
+  int refinements = 0;  ///< rounds of refinement run (each raised some cube one level)
+  /// "within_epsilon", "max_level", "disabled", "no_gain" (a level did not lower a cube's
+  /// deviation by a fifth: the input's faceting, not the spline; a round where no cube gained is
+  /// undone) or "not_face_to_face" (a level would break conformity; the last conforming one kept)
+  std::string stop;
 };
 
 /// Builds the control mesh of every cube: its blocks (pillowed if params.pillow_layers > 0), each
 /// a B-spline interpolating the volume map at its Greville points; shared control points get one
 /// id and one position. Throws core::ConfigError for parameters out of range and
 /// core::NumericalError if the maps fail (a point outside the volume map).
-std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params);
+std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels* levels = nullptr);
+
+/// The same with the level of every cube given (>= params.level; each cube's blocks have their
+/// elements split 2^(level - params.level) times along every axis). Where a block face meets a
+/// block of a coarser level, the finer face's control points become constraints (T-junctions).
+/// Throws core::TopologyError if levels differ between blocks that do not meet face to face
+/// (a finer point where a coarser block has one, left unconstrained), core::ConfigError for a
+/// level out of range or a count of levels that is not the number of cubes.
+std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const std::vector<int>& levels);
+
+/// Per cube (TMesh::component), the largest distance `distance` gives at the boundary faces of
+/// its blocks, sampled at every element's corners and edge and face midpoints; 0 for a cube
+/// without boundary faces. Indexed by component (size: the largest component + 1).
+std::vector<double> boundary_deviation(const std::vector<TMesh>& t, const std::function<double(const Vec3&)>& distance);
 
 /// One block by interpolation of `map` (block parameters -> physical) at its Greville points.
 TMesh build_block(const PointMap& map, int degree, const std::array<int, 3>& elements);
@@ -138,14 +191,16 @@ double trilinear_min_scaled_jacobian(const std::array<std::array<double, 3>, 8>&
 
 core::Json to_json(const TMesh& t);
 TMesh from_json(const core::Json& j, const std::string& file);
-/// Report keys: nodes (global functions), control_points, cubes, blocks, elements, max_level,
-/// irregular_nodes_surface, irregular_nodes_interior, min_scaled_jacobian_before/after.
+/// Report keys: nodes (T-mesh nodes: functions and T-junctions), functions, t_junctions,
+/// control_points, cubes, blocks, elements, min_level, max_level, irregular_nodes_surface,
+/// irregular_nodes_interior, min_scaled_jacobian_before/after.
 core::Json report_figures(const std::vector<TMesh>& t, double min_sj_before, double min_sj_after);
 
-/// Node counts of the control mesh (nodes = global functions): a surface node is irregular if its
-/// number of neighbours on the surface is not 4, an interior node if its number of neighbours is not 6.
+/// Node counts of the control mesh (nodes = functions + T-junctions): a surface node is irregular
+/// if its number of neighbours on the surface is not 4, an interior node if its number of
+/// neighbours is not 6; T-junctions are neither.
 struct NodeCounts {
-  int nodes = 0, surface = 0, irregular_surface = 0, irregular_interior = 0;
+  int nodes = 0, surface = 0, irregular_surface = 0, irregular_interior = 0, t_junctions = 0;
 };
 NodeCounts count_nodes(const std::vector<TMesh>& t);
 

@@ -82,6 +82,14 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {pillow_thickness: parametric}\n", "t")), "emitted").tmesh.pillow_thickness,
             "parametric");
   EXPECT_NE(config_error("tmesh: {pillow_thickness: thick}\n").find("tmesh.pillow_thickness"), std::string::npos);
+  // Adaptive levels: documented defaults are the library's, round trip, ranges.
+  EXPECT_DOUBLE_EQ(file.tmesh.epsilon_rel, tmesh::Params{}.epsilon_rel);
+  EXPECT_EQ(file.tmesh.max_level, tmesh::Params{}.max_level);
+  const auto lv = config::parse_config(config::to_yaml(config::parse_config("tmesh: {epsilon_rel: 0.001, max_level: 5}\n", "t")), "emitted");
+  EXPECT_DOUBLE_EQ(lv.tmesh.epsilon_rel, 0.001);
+  EXPECT_EQ(lv.tmesh.max_level, 5);
+  EXPECT_NE(config_error("tmesh: {epsilon_rel: -0.1}\n").find("tmesh.epsilon_rel"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {max_level: 8}\n").find("tmesh.max_level"), std::string::npos);
   EXPECT_EQ(file.tmesh.rim_pillow_lenses, tmesh::Params{}.rim_pillow_lenses);
   const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start, slide_sharp_curves: true, rim_pillow_lenses: false}\n", "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");
@@ -113,7 +121,7 @@ TEST(Config, EmittedYamlParsesBackToTheSameConfig) {
 
 TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("test.yaml: unknown key 'tmesh.levle'"), std::string::npos);
-  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, epsilon_rel, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
   EXPECT_NE(config_error("clasify: {}\n").find("unknown key 'clasify'"), std::string::npos);
   EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
 }

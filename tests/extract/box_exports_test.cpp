@@ -54,7 +54,7 @@ TEST_F(Box, ReportHasTheGlobalBasisFigures) {
 TEST_F(Box, BlocksShareTheirFaceFunctions) {
   ASSERT_EQ(result.code, 0) << result.output;
   const fs::path w = dir / "work";
-  const core::Json t = core::read_stage_file((w / "tmesh.stage.json").string(), "volts-tmesh", 2);
+  const core::Json t = core::read_stage_file((w / "tmesh.stage.json").string(), "volts-tmesh", 3);
   std::size_t control_points = 0;
   for (const auto& b : t["tmeshes"]) control_points += b["control_points"].size() / 3;
   const core::Json j = core::read_stage_file((w / "bezier.json").string(), "volts-bezier", 1);

@@ -238,7 +238,7 @@ TEST(Pipeline, TorusRunsEndToEndAsARingOfFourCubes) {
   // optimization; each names a block of the stage file with its kind and surface faces.
   {
     const core::Json& wb = o["worst_blocks"];
-    const core::Json stage = core::read_stage_file((d / "w" / "tmesh.stage.json").string(), "volts-tmesh", 2);
+    const core::Json stage = core::read_stage_file((d / "w" / "tmesh.stage.json").string(), "volts-tmesh", 3);
     ASSERT_EQ(wb.size(), 10u);
     for (std::size_t i = 0; i < wb.size(); ++i) {
       if (i > 0) {
@@ -264,7 +264,7 @@ TEST(Pipeline, TorusRunsEndToEndAsARingOfFourCubes) {
   const core::Json& w = x["worst_elements"];
   ASSERT_EQ(w.size(), 10u);
   EXPECT_DOUBLE_EQ(w[0]["scaled_jacobian"].get<double>(), x["min_scaled_jacobian"].get<double>());
-  const core::Json tm = core::read_stage_file((d / "w" / "tmesh.stage.json").string(), "volts-tmesh", 2);
+  const core::Json tm = core::read_stage_file((d / "w" / "tmesh.stage.json").string(), "volts-tmesh", 3);
   for (std::size_t i = 0; i < w.size(); ++i) {
     if (i > 0) {
       EXPECT_GE(w[i]["scaled_jacobian"].get<double>(), w[i - 1]["scaled_jacobian"].get<double>());
@@ -385,7 +385,7 @@ TEST(Pipeline, SharpCornersStayAtTheirInputPositionsThroughTheTMesh) {
     double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (std::size_t i = 0; i < v.size(); ++i) lo[i % 3] = std::min(lo[i % 3], v[i].get<double>()), hi[i % 3] = std::max(hi[i % 3], v[i].get<double>());
     const double diag = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-    const core::Json t = core::read_stage_file((d / "w" / "tmesh.stage.json").string(), "volts-tmesh", 2);
+    const core::Json t = core::read_stage_file((d / "w" / "tmesh.stage.json").string(), "volts-tmesh", 3);
     std::vector<std::array<double, 3>> block_corners;
     for (const auto& b : t["tmeshes"]) {
       const auto size = b["size"].get<std::array<int, 3>>();

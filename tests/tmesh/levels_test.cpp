@@ -1,0 +1,269 @@
+// Tests of adaptive levels per cube (tmesh.h build with levels, boundary_deviation; Liu et al.
+// 2013 §5.1): T-junctions where cube levels differ keep the spline C0 and its basis a partition
+// of unity, 2:1 balance between cubes, and ε-driven refinement lowers the boundary deviation.
+// The family: rings of k cubes (a square-section torus, k sectors), k = 3..6.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <vector>
+
+#include "bezier/bspline_volume.h"
+#include "core/errors.h"
+#include "extract/extract.h"
+#include "tmesh/pillow.h"
+#include "tmesh/tmesh.h"
+
+using namespace volts;
+using tmesh::Vec3;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInner = 2.0, kOuter = 3.0;  // radii of the ring's walls; height [0, 1]
+
+// Cube c of k covers the angles [c, c + 1] 2π/k; parameters (a, b, h): a along the ring, b
+// radial, h height. The polycube embedding and the physical map are the same bent ring.
+Vec3 ring_point(int k, int c, const Vec3& abh) {
+  const double t = 2 * kPi * (c + abh[0]) / k, r = kInner + (kOuter - kInner) * abh[1];
+  return {r * std::cos(t), r * std::sin(t), abh[2]};
+}
+
+tmesh::PolycubeMaps ring(int k) {
+  tmesh::PolycubeMaps m;
+  m.boundary.assign(static_cast<std::size_t>(k), {0, 0, 1, 1, 1, 1});
+  m.physical = [k](int c, const Vec3& x) { return ring_point(k, c, x); };
+  m.polycube = [k](int c, const Vec3& x) { return ring_point(k, c, x); };
+  return m;
+}
+
+// Distance to the ring's surface (two cylinders and two planes) of a point inside it.
+double ring_distance(const Vec3& x) {
+  const double r = std::hypot(x[0], x[1]);
+  return std::min({std::abs(r - kInner), std::abs(r - kOuter), std::abs(x[2]), std::abs(x[2] - 1)});
+}
+
+bezier::TensorBSplineVolume volume(const tmesh::TMesh& t) {
+  bezier::TensorBSplineVolume v;
+  v.degree = {t.degree, t.degree, t.degree};
+  v.knots = t.knots;
+  for (const auto& p : t.control_points) v.points.emplace_back(p[0], p[1], p[2]);
+  return v;
+}
+
+// Block parameters of cube parameters x (Newton on the trilinear block map); false if x is not in the block.
+bool block_params(const std::array<Vec3, 8>& corners, const Vec3& x, Vec3* uvw) {
+  Eigen::Vector3d u(0.5, 0.5, 0.5);
+  for (int it = 0; it < 50; ++it) {
+    const Vec3 y = tmesh::block_point(corners, {u[0], u[1], u[2]});
+    const Eigen::Vector3d r(y[0] - x[0], y[1] - x[1], y[2] - x[2]);
+    if (r.norm() < 1e-15) break;
+    Eigen::Matrix3d J;
+    for (int d = 0; d < 3; ++d) {
+      Eigen::Vector3d v = u;
+      v[d] += 1e-7;
+      const Vec3 z = tmesh::block_point(corners, {v[0], v[1], v[2]});
+      J.col(d) = Eigen::Vector3d(z[0] - y[0], z[1] - y[1], z[2] - y[2]) / 1e-7;
+    }
+    u -= J.fullPivLu().solve(r);
+  }
+  for (int d = 0; d < 3; ++d)
+    if (u[d] < -1e-10 || u[d] > 1 + 1e-10) return false;
+  *uvw = {std::clamp(u[0], 0.0, 1.0), std::clamp(u[1], 0.0, 1.0), std::clamp(u[2], 0.0, 1.0)};
+  return true;
+}
+
+// The spline of cube `cube` at cube parameters x (the first of its blocks that contains x).
+Eigen::Vector3d spline_at(const std::vector<tmesh::TMesh>& ts, int cube, const Vec3& x) {
+  for (const auto& t : ts) {
+    Vec3 uvw;
+    if (t.component == cube && block_params(t.corners, x, &uvw)) return bezier::evaluate(volume(t), Eigen::Vector3d(uvw[0], uvw[1], uvw[2]));
+  }
+  ADD_FAILURE() << "no block of cube " << cube << " holds " << x[0] << "," << x[1] << "," << x[2];
+  return Eigen::Vector3d::Zero();
+}
+
+std::vector<bezier::BezierHex> hexes(const std::vector<tmesh::TMesh>& ts) {
+  std::vector<bezier::BezierHex> h;
+  for (const auto& t : ts) {
+    const auto e = bezier::extract_bezier_hexes(volume(t));
+    h.insert(h.end(), e.begin(), e.end());
+  }
+  return h;
+}
+
+}  // namespace
+
+// Cubes of levels 3 and 4 in turn (and 3, 4, 5 with an odd count): across every face between
+// cubes both splines are one surface, the global basis is a partition of unity whose extraction
+// reproduces every Bézier element, and the T-junctions are exactly the finer cubes' interface nodes.
+TEST(Levels, SplinesAreC0AndAPartitionOfUnityWhereLevelsDiffer) {
+  for (int k = 3; k <= 6; ++k) {
+    SCOPED_TRACE("ring of " + std::to_string(k) + " cubes");
+    tmesh::Params p;
+    p.level = 2;
+    std::vector<int> levels;
+    for (int c = 0; c < k; ++c) levels.push_back(c % 2 ? 3 : 2);
+    if (k % 2) levels.back() = 4;  // three levels around the ring: 2, 3, ..., 4 next to 3 and 2 (2:1 broken on purpose at the seam)
+    const tmesh::PolycubeMaps maps = ring(k);
+    const auto ts = tmesh::build(maps, p, levels);
+    // C0: cube c's face a = 1 against cube c+1's face a = 0, on a grid of the face.
+    double gap = 0, scale = 0;
+    for (int c = 0; c < k; ++c)
+      for (int i = 0; i <= 12; ++i)
+        for (int j = 0; j <= 12; ++j) {
+          const double b = i / 12.0, h = j / 12.0;
+          const Eigen::Vector3d x0 = spline_at(ts, c, {1, b, h}), x1 = spline_at(ts, (c + 1) % k, {0, b, h});
+          gap = std::max(gap, (x0 - x1).norm()), scale = std::max(scale, x0.norm());
+        }
+    EXPECT_LE(gap, 1e-12 * scale) << "the splines of neighbouring cubes part at their common face";
+    // Partition of unity and reproduction (global_basis checks every element, 1e-12).
+    const extract::GlobalBasis g = extract::global_basis(ts, hexes(ts));
+    EXPECT_LE(g.partition_of_unity_error, 1e-12);
+    const tmesh::NodeCounts n = tmesh::count_nodes(ts);
+    EXPECT_EQ(static_cast<int>(g.points.size()), n.nodes - n.t_junctions);
+    // Every T-junction belongs to a finer cube's face toward a coarser cube; its row names
+    // nodes of the coarser cube only, with weights summing to one.
+    std::set<int> junctions;
+    for (const auto& t : ts)
+      for (const auto& con : t.constraints) {
+        junctions.insert(t.function_ids[static_cast<std::size_t>(con.point)]);
+        const Vec3 abh = tmesh::block_point(t.corners, t.parameters[static_cast<std::size_t>(con.point)]);
+        const int coarse_side = abh[0] < 0.5 ? (t.component + k - 1) % k : (t.component + 1) % k;
+        EXPECT_TRUE(std::abs(abh[0]) < 1e-12 || std::abs(abh[0] - 1) < 1e-12) << "a T-junction off the cube's a faces: a = " << abh[0];
+        EXPECT_GT(levels[static_cast<std::size_t>(t.component)], levels[static_cast<std::size_t>(coarse_side)]);
+        double sum = 0;
+        for (std::size_t m = 0; m < con.ids.size(); ++m) {
+          sum += con.weights[m];
+          bool in_coarse = false;
+          for (const auto& u : ts)
+            if (u.component == coarse_side && std::find(u.function_ids.begin(), u.function_ids.end(), con.ids[m]) != u.function_ids.end()) in_coarse = true;
+          EXPECT_TRUE(in_coarse) << "T-junction row names node " << con.ids[m] << " outside the coarser cube";
+        }
+        EXPECT_NEAR(sum, 1.0, 1e-14);
+      }
+    EXPECT_EQ(static_cast<int>(junctions.size()), n.t_junctions);
+    EXPECT_GT(n.t_junctions, 0);
+  }
+}
+
+// Stage-file round trip keeps the T-junctions, and extract rejects a row that moves its node.
+TEST(Levels, ConstraintsSurviveJsonAndAreChecked) {
+  tmesh::Params p;
+  p.level = 2;
+  auto ts = tmesh::build(ring(4), p, {2, 3, 2, 3});
+  std::vector<tmesh::TMesh> back;
+  for (const auto& t : ts) back.push_back(tmesh::from_json(tmesh::to_json(t), "test"));
+  std::size_t rows = 0;
+  for (std::size_t b = 0; b < ts.size(); ++b) {
+    ASSERT_EQ(back[b].constraints.size(), ts[b].constraints.size());
+    for (std::size_t r = 0; r < ts[b].constraints.size(); ++r, ++rows) {
+      EXPECT_EQ(back[b].constraints[r].ids, ts[b].constraints[r].ids);
+      EXPECT_EQ(back[b].constraints[r].weights, ts[b].constraints[r].weights);
+    }
+  }
+  EXPECT_GT(rows, 0u);
+  EXPECT_NO_THROW(extract::global_basis(back, hexes(back)));
+  // Shift one T-junction's control point: it no longer lies where its row puts it.
+  for (auto& t : back) {
+    if (t.constraints.empty()) continue;
+    t.control_points[static_cast<std::size_t>(t.constraints[0].point)][2] += 1e-3;
+    break;
+  }
+  EXPECT_THROW(extract::global_basis(back, hexes(back)), core::InvalidInputError);
+  // A row whose weights do not sum to one is refused on reading.
+  core::Json j;
+  for (const auto& t : ts)
+    if (!t.constraints.empty()) j = tmesh::to_json(t);
+  j["constraints"][0]["weights"][0] = j["constraints"][0]["weights"][0].get<double>() + 0.5;
+  EXPECT_THROW(tmesh::from_json(j, "bad.json"), core::InvalidInputError);
+}
+
+// One cube whose boundary counts as far too far from the surface (its distance scaled by 1e6,
+// so each level still lowers it, by the spline's h^4): it is refined to max_level and the cubes
+// around it follow with at most one level less each (2:1).
+TEST(Levels, RefinementKeepsTwoToOneBalanceBetweenCubesThatTouch) {
+  for (int k = 4; k <= 6; ++k) {
+    tmesh::PolycubeMaps maps = ring(k);
+    maps.diagonal = 2 * kOuter;
+    maps.surface_distance = [](const Vec3& x) {
+      const double t = std::atan2(x[1], x[0]);
+      return (t > 0.05 && t < 0.5 ? 1e6 : 1.0) * ring_distance(x);
+    };
+    tmesh::Params p;
+    p.level = 1;
+    p.max_level = 4;
+    p.epsilon_rel = 0.01;
+    tmesh::Levels lv;
+    const auto ts = tmesh::build(maps, p, &lv);
+    ASSERT_EQ(static_cast<int>(lv.level.size()), k);
+    EXPECT_EQ(lv.level[0], 4);
+    EXPECT_EQ(lv.stop, "max_level");
+    for (int c = 0; c < k; ++c) {
+      const int next = (c + 1) % k;
+      EXPECT_LE(std::abs(lv.level[static_cast<std::size_t>(c)] - lv.level[static_cast<std::size_t>(next)]), 1) << "cubes " << c << ", " << next;
+    }
+    // The rest as coarse as 2:1 allows: level 4 - (ring distance to cube 0), at least 1.
+    for (int c = 0; c < k; ++c) EXPECT_EQ(lv.level[static_cast<std::size_t>(c)], std::max(1, 4 - std::min(c, k - c))) << "cube " << c;
+    EXPECT_EQ(tmesh::report_figures(ts, 0, 0)["max_level"].get<int>(), 4);
+    EXPECT_NO_THROW(extract::global_basis(ts, hexes(ts)));
+  }
+}
+
+// ε-driven refinement on the bent ring (its cylinders are not polynomial): a smaller ε refines,
+// and each level lowers the sampled deviation of the boundary.
+TEST(Levels, EpsilonRefinesUntilTheBoundaryIsWithinIt) {
+  tmesh::PolycubeMaps maps = ring(4);
+  maps.diagonal = 2 * kOuter;
+  maps.surface_distance = ring_distance;
+  tmesh::Params p;
+  p.level = 1;
+  p.max_level = 4;
+  std::vector<double> dev;
+  for (int l = 1; l <= 4; ++l) {
+    const auto d = tmesh::boundary_deviation(tmesh::build(maps, p, std::vector<int>(4, l)), ring_distance);
+    dev.push_back(*std::max_element(d.begin(), d.end()) / maps.diagonal);
+    if (l > 1) {
+      EXPECT_LT(dev.back(), 0.5 * dev[dev.size() - 2]) << "level " << l;
+    }
+  }
+  // ε between the deviations of levels 2 and 3: every cube ends at level 3.
+  p.epsilon_rel = std::sqrt(dev[1] * dev[2]);
+  tmesh::Levels lv;
+  tmesh::build(maps, p, &lv);
+  EXPECT_EQ(lv.level, std::vector<int>(4, 3));
+  EXPECT_EQ(lv.stop, "within_epsilon");
+  EXPECT_LE(lv.deviation_rel, p.epsilon_rel);
+  EXPECT_NEAR(lv.deviation_rel, dev[2], 1e-15);
+  p.epsilon_rel = 0;
+  tmesh::build(maps, p, &lv);
+  EXPECT_EQ(lv.level, std::vector<int>(4, 1));
+  EXPECT_EQ(lv.stop, "disabled");
+  // A floor no level gets under (a faceted input): the round that bought nothing is undone.
+  maps.surface_distance = [](const Vec3& x) { return ring_distance(x) + 0.1; };
+  p.epsilon_rel = 0.01;
+  const auto ts = tmesh::build(maps, p, &lv);
+  EXPECT_EQ(lv.level, std::vector<int>(4, 1));
+  EXPECT_EQ(lv.stop, "no_gain");
+  EXPECT_EQ(lv.refinements, 0);
+  EXPECT_EQ(tmesh::report_figures(ts, 0, 0)["max_level"].get<int>(), 1);
+}
+
+// Cubes of different levels that touch where their blocks do not share whole faces are refused.
+TEST(Levels, LevelsThatBreakConformityAreRefused) {
+  tmesh::PolycubeMaps maps = ring(4);
+  // Cube 1's blocks cut along b (a sharp line): its a-faces are no longer whole faces of cube 0's blocks.
+  maps.blocks.resize(4);
+  for (int c = 0; c < 4; ++c)
+    maps.blocks[static_cast<std::size_t>(c)] = c == 1 ? tmesh::cube_blocks({0, 0, 1, 1, 1, 1}, {2, 2, 2}, 1, std::array<std::vector<double>, 3>{{{}, {0.3}, {}}})
+                                                       : tmesh::cube_blocks({0, 0, 1, 1, 1, 1}, {2, 2, 2}, 1);
+  tmesh::Params p;
+  p.level = 1;
+  EXPECT_NO_THROW(tmesh::build(maps, p, {1, 1, 1, 1}));  // same level: points shared as before
+  EXPECT_THROW(tmesh::build(maps, p, {2, 1, 1, 1}), core::TopologyError);
+  EXPECT_THROW(tmesh::build(maps, p, {1, 2, 1, 1}), core::TopologyError);
+  EXPECT_THROW(tmesh::build(maps, p, {0, 1, 1, 1}), core::ConfigError);
+  EXPECT_THROW(tmesh::build(maps, p, {1, 1, 1}), core::ConfigError);
+}
