@@ -61,16 +61,29 @@ class Spline {
         count = std::max(count, id + 1);
       }
     occurrences_.resize(static_cast<std::size_t>(count));
-    // T-junctions follow the nodes of their rows; until moves carry them along, both stay put.
-    pinned_.assign(static_cast<std::size_t>(count), 0);
+    // T-junctions (TMesh::constraints) are no variables: a control point of one stands for the
+    // nodes of its row, which carry it along when they move.
+    expansion_.resize(static_cast<std::size_t>(count));
+    dependents_.resize(static_cast<std::size_t>(count));
+    for (int id = 0; id < count; ++id) expansion_[static_cast<std::size_t>(id)] = {{id, 1.0}};
+    std::vector<char> junction(static_cast<std::size_t>(count), 0);
     for (std::size_t b = 0; b < blocks.size(); ++b)
       for (const auto& k : blocks[b].constraints) {
-        pinned_[static_cast<std::size_t>(point_id_[b].at(static_cast<std::size_t>(k.point)))] = 1;
-        for (const int m : k.ids) {
+        const int id = point_id_[b].at(static_cast<std::size_t>(k.point));
+        if (junction[static_cast<std::size_t>(id)]) continue;
+        junction[static_cast<std::size_t>(id)] = 1;
+        auto& row = expansion_[static_cast<std::size_t>(id)];
+        row.clear();
+        for (std::size_t r = 0; r < k.ids.size(); ++r) {
+          const int m = k.ids[r];
           if (m < 0 || m >= count) throw core::InvalidInputError("tmesh optimization: a T-junction names node " + std::to_string(m) + ", which no block has");
-          pinned_[static_cast<std::size_t>(m)] = 1;
+          row.push_back({m, k.weights.at(r)});
+          dependents_[static_cast<std::size_t>(m)].push_back(id);
         }
       }
+    for (int id = 0; id < count; ++id)
+      for (const auto& [m, w] : expansion_[static_cast<std::size_t>(id)])
+        if (m != id && junction[static_cast<std::size_t>(m)]) throw core::InvalidInputError("tmesh optimization: T-junction " + std::to_string(id) + " names T-junction " + std::to_string(m));
     for (std::size_t b = 0; b < blocks.size(); ++b)
       for (std::size_t i = 0; i < point_id_[b].size(); ++i)
         occurrences_[static_cast<std::size_t>(point_id_[b][i])].push_back({static_cast<int>(b), static_cast<int>(i)});
@@ -84,9 +97,12 @@ class Spline {
           for (int a = 0; a <= t.degree; ++a) {
             const int local = (el.first[0] + a) + t.size[0] * ((el.first[1] + bb) + t.size[1] * (el.first[2] + c));
             element_points_[e].push_back(local);
-            // Elements in ascending order, once each (an id may repeat within an element).
-            std::vector<int>& of = node_elements_[static_cast<std::size_t>(id_of(el.block, local))];
-            if (of.empty() || of.back() != static_cast<int>(e)) of.push_back(static_cast<int>(e));
+            // Elements in ascending order, once each (an id may repeat within an element); a
+            // node supports the elements of the T-junctions that name it too.
+            for (const auto& [m, w] : expansion_[static_cast<std::size_t>(id_of(el.block, local))]) {
+              std::vector<int>& of = node_elements_[static_cast<std::size_t>(m)];
+              if (of.empty() || of.back() != static_cast<int>(e)) of.push_back(static_cast<int>(e));
+            }
           }
     }
   }
@@ -199,10 +215,20 @@ class Spline {
   }
   void set_position(int id, const std::array<double, 3>& x) {
     for (const auto& [b, i] : occurrences_[static_cast<std::size_t>(id)]) blocks_[static_cast<std::size_t>(b)].control_points[static_cast<std::size_t>(i)] = x;
+    for (const int d : dependents_[static_cast<std::size_t>(id)]) {  // T-junctions follow their rows
+      std::array<double, 3> y{0, 0, 0};
+      for (const auto& [m, w] : expansion_[static_cast<std::size_t>(d)]) {
+        const auto p = position(m);
+        for (int k = 0; k < 3; ++k) y[static_cast<std::size_t>(k)] += w * p[static_cast<std::size_t>(k)];
+      }
+      for (const auto& [b, i] : occurrences_[static_cast<std::size_t>(d)]) blocks_[static_cast<std::size_t>(b)].control_points[static_cast<std::size_t>(i)] = y;
+    }
   }
 
-  // A T-junction or a node one depends on (TMesh::constraints): never moved.
-  bool pinned(int id) const { return pinned_[static_cast<std::size_t>(id)] != 0; }
+  // The nodes a control point stands for, with weights: itself, or a T-junction's row.
+  const std::vector<std::pair<int, double>>& nodes_of(int block, int local) const {
+    return expansion_[static_cast<std::size_t>(id_of(block, local))];
+  }
 
   // On the surface: on a block face marked boundary in any block it belongs to.
   bool on_surface(int id) const {
@@ -246,7 +272,8 @@ class Spline {
   std::vector<std::vector<std::pair<int, int>>> occurrences_;  // per id: (block, local index)
   std::vector<std::vector<int>> point_id_;                      // per block and local index: id
   std::vector<std::vector<int>> node_elements_;                 // per id: elements it supports, ascending
-  std::vector<char> pinned_;                                    // per id: pinned()
+  std::vector<std::vector<std::pair<int, double>>> expansion_;  // per id: nodes_of()
+  std::vector<std::vector<int>> dependents_;                    // per id: T-junctions whose rows name it
 };
 
 // Row x (dx/du, dx/dv, dx/dw) of bezier::jacobian_samples of a polynomial hex of degree p in each
@@ -342,10 +369,9 @@ struct Quality {
 // it supports.
 std::vector<int> fresh_nodes(const Spline& s, std::size_t e, std::set<int>& visited, bool surface_too = false) {
   std::vector<int> nodes;
-  for (const int local : s.points_of(e)) {
-    const int id = s.id_of(s.block_of(e), local);
-    if (!s.pinned(id) && (surface_too || !s.on_surface(id)) && visited.insert(id).second) nodes.push_back(id);
-  }
+  for (const int local : s.points_of(e))
+    for (const auto& [id, w] : s.nodes_of(s.block_of(e), local))
+      if ((surface_too || !s.on_surface(id)) && visited.insert(id).second) nodes.push_back(id);
   return nodes;
 }
 
@@ -718,12 +744,12 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     const bool with_tri = params.trilinear_guard && std::all_of(q.begin(), q.end(), [](const Quality& x) { return x.valid; });
     for (std::size_t e = 0; e < s.size(); ++e) {
       if (q[e].valid && q[e].scaled >= select && !(with_tri && q[e].trilinear < params.trilinear_target)) continue;
-      for (const int local : s.points_of(e)) {
-        const int id = s.id_of(s.block_of(e), local);
+      for (const int local : s.points_of(e))
+        for (const auto& [id, w] : s.nodes_of(s.block_of(e), local)) {
         if (static_cast<std::size_t>(id) >= var_of.size()) var_of.resize(static_cast<std::size_t>(id) + 1, -1);
         if (var_of[static_cast<std::size_t>(id)] != -1) continue;
         SlideFrame f;
-        if (s.pinned(id) || (s.on_surface(id) && !(surface && slide_frame(s, *surface, id, params.slide_sharp_curves, f)))) {
+        if (s.on_surface(id) && !(surface && slide_frame(s, *surface, id, params.slide_sharp_curves, f))) {
           var_of[static_cast<std::size_t>(id)] = -2;
           continue;
         }
@@ -882,19 +908,20 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           const std::size_t e = static_cast<std::size_t>(els[k]);
           const std::vector<int>& pts = s.points_of(e);
           if (dP[k].empty()) continue;
-          for (std::size_t j = 0; j < pts.size(); ++j) {
-            const int id = s.id_of(s.block_of(e), pts[j]);
-            const int v = static_cast<std::size_t>(id) < var_of.size() ? var_of[static_cast<std::size_t>(id)] : -1;
-            if (v < 0) continue;
-            const std::size_t at = first[static_cast<std::size_t>(v)];
-            const SlideFrame& f = frame[static_cast<std::size_t>(v)];
-            if (f.dims > 0) {
-              grad[at] += f.t1.dot(dP[k][j]);
-              if (f.dims == 2) grad[at + 1] += f.t2.dot(dP[k][j]);
-              continue;
+          for (std::size_t j = 0; j < pts.size(); ++j)
+            for (const auto& [id, wt] : s.nodes_of(s.block_of(e), pts[j])) {
+              const int v = static_cast<std::size_t>(id) < var_of.size() ? var_of[static_cast<std::size_t>(id)] : -1;
+              if (v < 0) continue;
+              const std::size_t at = first[static_cast<std::size_t>(v)];
+              const SlideFrame& f = frame[static_cast<std::size_t>(v)];
+              const Eigen::Vector3d g = wt * dP[k][j];  // a T-junction's gradient reaches its nodes by its row
+              if (f.dims > 0) {
+                grad[at] += f.t1.dot(g);
+                if (f.dims == 2) grad[at + 1] += f.t2.dot(g);
+                continue;
+              }
+              for (std::size_t d = 0; d < 3; ++d) grad[at + d] += g[static_cast<Eigen::Index>(d)];
             }
-            for (std::size_t d = 0; d < 3; ++d) grad[at + d] += dP[k][j][static_cast<Eigen::Index>(d)];
-          }
         }
       }
       // Every sample at the target: stop here (later evaluations only spread the gain).
@@ -958,8 +985,8 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         for (std::size_t i = 0; i < todo.size(); ++i) {
           if (!bad[i]) continue;
           const std::size_t e = static_cast<std::size_t>(els[todo[i]]);
-          for (const int local : s.points_of(e)) {
-            const int id = s.id_of(s.block_of(e), local);
+          for (const int local : s.points_of(e))
+            for (const auto& [id, wt] : s.nodes_of(s.block_of(e), local)) {
             const int v = static_cast<std::size_t>(id) < var_of.size() ? var_of[static_cast<std::size_t>(id)] : -1;
             if (v < 0 || back[static_cast<std::size_t>(v)]) continue;
             back[static_cast<std::size_t>(v)] = 1, ++t.reverted;
