@@ -119,7 +119,8 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
   }
   core::Json fig = tmesh::report_figures(ts, before, after);
   fig["levels"] = {{"stop", levels.stop}, {"refinements", levels.refinements}, {"cube_levels", levels.level},
-                   {"boundary_deviation_rel", levels.deviation_rel}, {"epsilon_rel", ctx.config.tmesh.epsilon_rel}};
+                   {"boundary_deviation_rel", levels.deviation_rel}, {"cube_deviation_rel", levels.cube_deviation_rel},
+                   {"epsilon_rel", ctx.config.tmesh.epsilon_rel}};
   // The Bézier elements' sampled scaled Jacobian around optimization (trilinear figures above).
   fig["optimization"] = {{"sweeps", opt.sweeps}, {"nodes_moved", opt.nodes_moved},
                          {"bezier_min_scaled_jacobian_before", opt.min_before}, {"bezier_min_scaled_jacobian_after", opt.min_after},

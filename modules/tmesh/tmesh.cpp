@@ -406,10 +406,12 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
   const bool measure = maps.surface_distance && maps.diagonal > 0;
   const bool adaptive = measure && params.epsilon_rel > 0 && params.max_level > params.level;
   lv.stop = "disabled";
-  if (measure && !adaptive) {
-    const std::vector<double> dev = boundary_deviation(blocks, maps.surface_distance);
+  auto record = [&](const std::vector<double>& dev) {
+    lv.cube_deviation_rel.clear();
+    for (const double d : dev) lv.cube_deviation_rel.push_back(d / maps.diagonal);
     lv.deviation_rel = dev.empty() ? 0.0 : *std::max_element(dev.begin(), dev.end()) / maps.diagonal;
-  }
+  };
+  if (measure && !adaptive) record(boundary_deviation(blocks, maps.surface_distance));
   if (adaptive) {
     const double tol = params.epsilon_rel * maps.diagonal;
     // Cubes that share a point (2:1 balance across faces, edges and corners).
@@ -474,7 +476,7 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
       ++lv.refinements;
       dev = boundary_deviation(blocks, maps.surface_distance);
     }
-    lv.deviation_rel = dev.empty() ? 0.0 : *std::max_element(dev.begin(), dev.end()) / maps.diagonal;
+    record(dev);
   }
   if (out) *out = lv;
   return blocks;

@@ -148,6 +148,7 @@ struct PolycubeMaps {
 /// of the result relative to the diagonal (0 without a surface_distance).
 struct Levels {
   std::vector<int> level;
+  std::vector<double> cube_deviation_rel;  ///< per cube, relative to the diagonal (empty without a surface_distance)
   double deviation_rel = 0;
   int refinements = 0;  ///< rounds of refinement run (each raised some cube one level)
   /// "within_epsilon", "max_level", "disabled", "no_gain" (a level did not lower a cube's
