@@ -11,7 +11,8 @@
 // 0.64 when run on). Elements not certified valid are sampled on a dense grid there.
 //
 // Then per-node sweeps: the elements below the target are visited worst first and their control
-// points not yet moved in this sweep are optimized one at a time. Nodes are the spline's global
+// points not yet moved in this sweep are optimized one at a time (a T-junction's point stands
+// for the nodes of its row, which carry it along). Nodes are the spline's global
 // functions (control points shared by blocks move together). Node types as in the paper's
 // smoothing: nodes on the surface (on a block face marked boundary, which includes sharp corners
 // and sharp-curve nodes) stay fixed, except that given the input surface (slide_surface.h) the
