@@ -231,11 +231,15 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const s
   core::Progress progress("blocks", cubes);
   for (std::size_t k = 0; k < cubes; ++k) {
     const int cube = static_cast<int>(k);
-    const int split = 1 << (levels[k] - params.level);  // every element split in 2^3 per level
     for (const Block& b : maps.blocks.empty() ? cube_blocks(maps.boundary[k], {n, n, n}, params.pillow_layers) : maps.blocks[k]) {
+      // Refinement of boundary elements (Liu et al. §5.1): the blocks on the surface at the cube's
+      // level, the others (the core) one coarser, 2:1 across their faces.
+      const bool on_surface = std::any_of(b.boundary.begin(), b.boundary.end(), [](int f) { return f != 0; });
+      const int level = on_surface || params.refine == "cube" ? levels[k] : std::max(params.level, levels[k] - 1);
+      const int split = 1 << (level - params.level);  // every element split in 2^3 per level
       const std::array<int, 3> elements{b.elements[0] * split, b.elements[1] * split, b.elements[2] * split};
       TMesh t = build_block([&](const Vec3& uvw) { return maps.physical(cube, block_point(b.corners, uvw)); }, params.degree, elements);
-      t.level = levels[k];
+      t.level = level;
       t.boundary = b.boundary;
       t.component = cube;
       t.corners = b.corners;
@@ -288,7 +292,7 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const s
   // Levels that differ need every inner block face to be the whole face of exactly one other
   // block: a face met by parts of several (a cube cut along a sharp line next to an uncut one)
   // would leave finer nodes inside a coarser face that no row ties to it (a crack).
-  if (std::adjacent_find(levels.begin(), levels.end(), std::not_equal_to<>()) != levels.end())
+  if (std::any_of(blocks.begin(), blocks.end(), [&](const TMesh& t) { return t.level != blocks.front().level; }))
     for (const auto& [key, list] : faces)
       if (list.size() != 2)
         throw core::TopologyError("tmesh: levels differ between cubes, but face " + std::to_string(list[0].second) + " of block " +
@@ -399,6 +403,7 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
   if (!(params.epsilon_rel >= 0 && params.epsilon_rel <= 1))
     throw core::ConfigError("tmesh.epsilon_rel must be in [0, 1], got " + std::to_string(params.epsilon_rel));
   if (params.max_level < 1 || params.max_level > 7) throw core::ConfigError("tmesh.max_level must be in [1, 7], got " + std::to_string(params.max_level));
+  if (params.refine != "boundary" && params.refine != "cube") throw core::ConfigError("tmesh.refine must be boundary or cube, got '" + params.refine + "'");
   const std::size_t cubes = maps.blocks.empty() ? maps.boundary.size() : maps.blocks.size();
   Levels lv;
   lv.level.assign(cubes, params.level);

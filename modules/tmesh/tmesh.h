@@ -75,6 +75,10 @@ struct Params {
   double epsilon_rel = 0.005;
   /// The finest level adaptivity may reach; at or below `level` there is no refinement [1, 7].
   int max_level = 4;
+  /// What a cube's level refines: "boundary" (its blocks with a face on the surface — the pillow
+  /// slabs, the boundary elements of §5.1 — while the others stay one level coarser, at least
+  /// `level`) or "cube" (every block).
+  std::string refine = "boundary";
 };
 
 using Vec3 = std::array<double, 3>;
@@ -163,8 +167,9 @@ struct Levels {
 /// core::NumericalError if the maps fail (a point outside the volume map).
 std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels* levels = nullptr);
 
-/// The same with the level of every cube given (>= params.level; each cube's blocks have their
-/// elements split 2^(level - params.level) times along every axis). Where a block face meets a
+/// The same with the level of every cube given (>= params.level; each of its blocks on the
+/// surface has its elements split 2^(level - params.level) times along every axis, the others
+/// one level less unless params.refine is "cube"; TMesh::level is the block's). Where a block face meets a
 /// block of a coarser level, the finer face's control points become constraints (T-junctions).
 /// Throws core::TopologyError if levels differ between blocks that do not meet face to face
 /// (a finer point where a coarser block has one, left unconstrained), core::ConfigError for a

@@ -90,6 +90,9 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_EQ(lv.tmesh.max_level, 5);
   EXPECT_NE(config_error("tmesh: {epsilon_rel: -0.1}\n").find("tmesh.epsilon_rel"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {max_level: 8}\n").find("tmesh.max_level"), std::string::npos);
+  EXPECT_EQ(file.tmesh.refine, tmesh::Params{}.refine);
+  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {refine: cube}\n", "t")), "emitted").tmesh.refine, "cube");
+  EXPECT_NE(config_error("tmesh: {refine: all}\n").find("tmesh.refine"), std::string::npos);
   EXPECT_EQ(file.tmesh.rim_pillow_lenses, tmesh::Params{}.rim_pillow_lenses);
   const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start, slide_sharp_curves: true, rim_pillow_lenses: false}\n", "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <map>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "bezier/bspline_volume.h"
@@ -103,53 +104,75 @@ std::vector<bezier::BezierHex> hexes(const std::vector<tmesh::TMesh>& ts) {
 // cubes both splines are one surface, the global basis is a partition of unity whose extraction
 // reproduces every Bézier element, and the T-junctions are exactly the finer cubes' interface nodes.
 TEST(Levels, SplinesAreC0AndAPartitionOfUnityWhereLevelsDiffer) {
-  for (int k = 3; k <= 6; ++k) {
-    SCOPED_TRACE("ring of " + std::to_string(k) + " cubes");
-    tmesh::Params p;
-    p.level = 2;
-    std::vector<int> levels;
-    for (int c = 0; c < k; ++c) levels.push_back(c % 2 ? 3 : 2);
-    if (k % 2) levels.back() = 4;  // three levels around the ring: 2, 3, ..., 4 next to 3 and 2 (2:1 broken on purpose at the seam)
-    const tmesh::PolycubeMaps maps = ring(k);
-    const auto ts = tmesh::build(maps, p, levels);
-    // C0: cube c's face a = 1 against cube c+1's face a = 0, on a grid of the face.
-    double gap = 0, scale = 0;
-    for (int c = 0; c < k; ++c)
-      for (int i = 0; i <= 12; ++i)
-        for (int j = 0; j <= 12; ++j) {
-          const double b = i / 12.0, h = j / 12.0;
-          const Eigen::Vector3d x0 = spline_at(ts, c, {1, b, h}), x1 = spline_at(ts, (c + 1) % k, {0, b, h});
-          gap = std::max(gap, (x0 - x1).norm()), scale = std::max(scale, x0.norm());
+  for (const std::string refine : {"boundary", "cube"})
+    for (int k = 3; k <= 6; ++k) {
+      SCOPED_TRACE("ring of " + std::to_string(k) + " cubes, refine " + refine);
+      tmesh::Params p;
+      p.level = 2;
+      p.refine = refine;
+      std::vector<int> levels;
+      for (int c = 0; c < k; ++c) levels.push_back(c % 2 ? 3 : 2);
+      if (k % 2) levels.back() = 4;  // three levels around the ring: 2, 3, ..., 4 next to 3 and 2 (2:1 broken on purpose at the seam)
+      const tmesh::PolycubeMaps maps = ring(k);
+      const auto ts = tmesh::build(maps, p, levels);
+      // C0 between cubes: cube c's face a = 1 against cube c+1's face a = 0, on a grid of the face.
+      double gap = 0, scale = 0;
+      for (int c = 0; c < k; ++c)
+        for (int i = 0; i <= 12; ++i)
+          for (int j = 0; j <= 12; ++j) {
+            const double b = i / 12.0, h = j / 12.0;
+            const Eigen::Vector3d x0 = spline_at(ts, c, {1, b, h}), x1 = spline_at(ts, (c + 1) % k, {0, b, h});
+            gap = std::max(gap, (x0 - x1).norm()), scale = std::max(scale, x0.norm());
+          }
+      // C0 inside cubes: every inner block face against the blocks of its cube that hold its points.
+      int pairs = 0;
+      for (const auto& t : ts)
+        for (int f = 0; f < 6; ++f) {
+          if (t.boundary[static_cast<std::size_t>(f)]) continue;
+          for (int i = 0; i <= 6; ++i)
+            for (int j = 0; j <= 6; ++j) {
+              Vec3 uvw;
+              uvw[static_cast<std::size_t>(f / 2)] = f % 2;
+              uvw[static_cast<std::size_t>((f / 2 + 1) % 3)] = i / 6.0, uvw[static_cast<std::size_t>((f / 2 + 2) % 3)] = j / 6.0;
+              const Vec3 x = tmesh::block_point(t.corners, uvw);
+              const Eigen::Vector3d xt = bezier::evaluate(volume(t), Eigen::Vector3d(uvw[0], uvw[1], uvw[2]));
+              for (const auto& u : ts) {
+                Vec3 w;
+                if (&u == &t || u.component != t.component || !block_params(u.corners, x, &w)) continue;
+                gap = std::max(gap, (bezier::evaluate(volume(u), Eigen::Vector3d(w[0], w[1], w[2])) - xt).norm());
+                if (u.level != t.level) ++pairs;
+              }
+            }
         }
-    EXPECT_LE(gap, 1e-12 * scale) << "the splines of neighbouring cubes part at their common face";
-    // Partition of unity and reproduction (global_basis checks every element, 1e-12).
-    const extract::GlobalBasis g = extract::global_basis(ts, hexes(ts));
-    EXPECT_LE(g.partition_of_unity_error, 1e-12);
-    const tmesh::NodeCounts n = tmesh::count_nodes(ts);
-    EXPECT_EQ(static_cast<int>(g.points.size()), n.nodes - n.t_junctions);
-    // Every T-junction belongs to a finer cube's face toward a coarser cube; its row names
-    // nodes of the coarser cube only, with weights summing to one.
-    std::set<int> junctions;
-    for (const auto& t : ts)
-      for (const auto& con : t.constraints) {
-        junctions.insert(t.function_ids[static_cast<std::size_t>(con.point)]);
-        const Vec3 abh = tmesh::block_point(t.corners, t.parameters[static_cast<std::size_t>(con.point)]);
-        const int coarse_side = abh[0] < 0.5 ? (t.component + k - 1) % k : (t.component + 1) % k;
-        EXPECT_TRUE(std::abs(abh[0]) < 1e-12 || std::abs(abh[0] - 1) < 1e-12) << "a T-junction off the cube's a faces: a = " << abh[0];
-        EXPECT_GT(levels[static_cast<std::size_t>(t.component)], levels[static_cast<std::size_t>(coarse_side)]);
-        double sum = 0;
-        for (std::size_t m = 0; m < con.ids.size(); ++m) {
-          sum += con.weights[m];
-          bool in_coarse = false;
-          for (const auto& u : ts)
-            if (u.component == coarse_side && std::find(u.function_ids.begin(), u.function_ids.end(), con.ids[m]) != u.function_ids.end()) in_coarse = true;
-          EXPECT_TRUE(in_coarse) << "T-junction row names node " << con.ids[m] << " outside the coarser cube";
-        }
-        EXPECT_NEAR(sum, 1.0, 1e-14);
+      EXPECT_LE(gap, 1e-12 * scale) << "the splines of neighbouring blocks part at their common face";
+      if (refine == "boundary") {
+        EXPECT_GT(pairs, 0) << "no block face between levels inside a cube";
+      } else {
+        EXPECT_EQ(pairs, 0);
       }
-    EXPECT_EQ(static_cast<int>(junctions.size()), n.t_junctions);
-    EXPECT_GT(n.t_junctions, 0);
-  }
+      // Partition of unity and reproduction (global_basis checks every element, 1e-12).
+      const extract::GlobalBasis g = extract::global_basis(ts, hexes(ts));
+      EXPECT_LE(g.partition_of_unity_error, 1e-12);
+      const tmesh::NodeCounts n = tmesh::count_nodes(ts);
+      EXPECT_EQ(static_cast<int>(g.points.size()), n.nodes - n.t_junctions);
+      // Every T-junction's row names nodes of coarser blocks only, with weights summing to one.
+      std::set<int> junctions;
+      for (const auto& t : ts)
+        for (const auto& con : t.constraints) {
+          junctions.insert(t.function_ids[static_cast<std::size_t>(con.point)]);
+          double sum = 0;
+          for (std::size_t m = 0; m < con.ids.size(); ++m) {
+            sum += con.weights[m];
+            bool coarser = false;
+            for (const auto& u : ts)
+              if (u.level < t.level && std::find(u.function_ids.begin(), u.function_ids.end(), con.ids[m]) != u.function_ids.end()) coarser = true;
+            EXPECT_TRUE(coarser) << "T-junction row names node " << con.ids[m] << ", which no coarser block has";
+          }
+          EXPECT_NEAR(sum, 1.0, 1e-14);
+        }
+      EXPECT_EQ(static_cast<int>(junctions.size()), n.t_junctions);
+      EXPECT_GT(n.t_junctions, 0);
+    }
 }
 
 // Stage-file round trip keeps the T-junctions, and extract rejects a row that moves its node.
