@@ -32,7 +32,12 @@ int main(int argc, char** argv) {
           throw core::InvalidInputError(in + ": malformed tmeshes: " + e.what());
         }
         pipeline::check_exports(ctx, t[0].degree, "tmesh.degree");  // before any work: a bad list costs nothing
-        const extract::Result r = extract::extract(t, mesh, ctx.config.extract);
+        extract::Result r;
+        try {
+          r = extract::extract(t, mesh, ctx.config.extract);
+        } catch (const core::InvalidInputError& e) {  // what extract finds wrong in the blocks is the file's fault
+          throw core::InvalidInputError(in + ": " + e.what());
+        }
         const core::Json fig = pipeline::write_exports(ctx, r);
         return fig;
       });

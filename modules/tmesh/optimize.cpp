@@ -83,7 +83,7 @@ class Spline {
       }
     for (int id = 0; id < count; ++id)
       for (const auto& [m, w] : expansion_[static_cast<std::size_t>(id)])
-        if (m != id && junction[static_cast<std::size_t>(m)]) throw core::InvalidInputError("tmesh optimization: T-junction " + std::to_string(id) + " names T-junction " + std::to_string(m));
+        if (junction[static_cast<std::size_t>(m)] && m != id) throw core::InvalidInputError("tmesh optimization: T-junction " + std::to_string(id) + " names T-junction " + std::to_string(m));
     for (std::size_t b = 0; b < blocks.size(); ++b)
       for (std::size_t i = 0; i < point_id_[b].size(); ++i)
         occurrences_[static_cast<std::size_t>(point_id_[b][i])].push_back({static_cast<int>(b), static_cast<int>(i)});

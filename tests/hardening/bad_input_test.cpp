@@ -298,6 +298,20 @@ std::vector<BadInput> catalogue() {
                  "does not match its 5 knots"),
       stage_json("TmeshFunctionIdsShort", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["function_ids"].erase(j["tmeshes"][0]["function_ids"].begin()); },
                  "tmesh function_ids has"),
+      // T-junctions (tmesh stage file v3, adaptive levels): a row off one, and rows naming each other.
+      stage_json("TmeshJunctionWeightsOffOne", "tmesh", "volts-extract",
+                 [](core::Json& j) {
+                   auto& t = j["tmeshes"][0];
+                   t["constraints"] = core::Json::array({{{"point", 0}, {"ids", {t["function_ids"][1]}}, {"weights", {0.5}}}});
+                 },
+                 "weights summing to 0.5"),
+      stage_json("TmeshJunctionsNameEachOther", "tmesh", "volts-extract",
+                 [](core::Json& j) {
+                   auto& t = j["tmeshes"][0];
+                   t["constraints"] = core::Json::array({{{"point", 0}, {"ids", {t["function_ids"][1]}}, {"weights", {1.0}}},
+                                                         {{"point", 1}, {"ids", {t["function_ids"][0]}}, {"weights", {1.0}}}});
+                 },
+                 "which is no function"),
       stage_json("TmeshUnknownBlockKind", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["kind"] = "wedge"; },
                  "unknown tmesh block kind 'wedge'"),
       stage_json("TmeshBlockCornerOutsideCube", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][1]["corners"][7][0] = 1.6; },
