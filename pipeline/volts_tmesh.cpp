@@ -118,7 +118,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     after = tmesh::write_vtu(ctx.path("tmesh.vtu"), ts, extra);
   }
   core::Json fig = tmesh::report_figures(ts, before, after);
-  fig["levels"] = {{"stop", levels.stop}, {"refinements", levels.refinements}, {"cube_levels", levels.level},
+  fig["levels"] = {{"stop", levels.stop}, {"refinements", levels.refinements}, {"refined_blocks", levels.refined_blocks}, {"cube_levels", levels.level},
                    {"boundary_deviation_rel", levels.deviation_rel}, {"cube_deviation_rel", levels.cube_deviation_rel},
                    {"epsilon_rel", ctx.config.tmesh.epsilon_rel}};
   // The Bézier elements' sampled scaled Jacobian around optimization (trilinear figures above).

@@ -217,25 +217,28 @@ void face_rows(const std::vector<TMesh>& blocks, const std::vector<std::vector<i
 
 }  // namespace
 
-std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const std::vector<int>& levels) {
-  check(params);
+namespace {
+
+bool touches_surface(const Block& b) {
+  return std::any_of(b.boundary.begin(), b.boundary.end(), [](int f) { return f != 0; });
+}
+
+// The blocks of every cube, block j of cube k at level_of(k, j, whether it touches the surface).
+std::vector<TMesh> build_with(const PolycubeMaps& maps, const Params& params, const std::function<int(std::size_t, std::size_t, bool)>& block_level) {
   const int n = 1 << params.level;
   const std::size_t cubes = maps.blocks.empty() ? maps.boundary.size() : maps.blocks.size();
-  if (levels.size() != cubes)
-    throw core::ConfigError("tmesh: " + std::to_string(levels.size()) + " levels for " + std::to_string(cubes) + " cubes");
-  for (const int l : levels)
-    if (l < params.level || l > 7) throw core::ConfigError("tmesh: a cube's level " + std::to_string(l) + " is outside [tmesh.level, 7]");
   std::vector<TMesh> blocks;
   std::vector<std::vector<Vec3>> keys;
   double extent = 0;
   core::Progress progress("blocks", cubes);
   for (std::size_t k = 0; k < cubes; ++k) {
     const int cube = static_cast<int>(k);
-    for (const Block& b : maps.blocks.empty() ? cube_blocks(maps.boundary[k], {n, n, n}, params.pillow_layers) : maps.blocks[k]) {
-      // Refinement of boundary elements (Liu et al. §5.1): the blocks on the surface at the cube's
-      // level, the others (the core) one coarser, 2:1 across their faces.
-      const bool on_surface = std::any_of(b.boundary.begin(), b.boundary.end(), [](int f) { return f != 0; });
-      const int level = on_surface || params.refine == "cube" ? levels[k] : std::max(params.level, levels[k] - 1);
+    const std::vector<Block> list = maps.blocks.empty() ? cube_blocks(maps.boundary[k], {n, n, n}, params.pillow_layers) : maps.blocks[k];
+    for (std::size_t j = 0; j < list.size(); ++j) {
+      const Block& b = list[j];
+      const int level = block_level(k, j, touches_surface(b));
+      if (level < params.level || level > 7)
+        throw core::ConfigError("tmesh: a block's level " + std::to_string(level) + " is outside [tmesh.level, 7]");
       const int split = 1 << (level - params.level);  // every element split in 2^3 per level
       const std::array<int, 3> elements{b.elements[0] * split, b.elements[1] * split, b.elements[2] * split};
       TMesh t = build_block([&](const Vec3& uvw) { return maps.physical(cube, block_point(b.corners, uvw)); }, params.degree, elements);
@@ -364,11 +367,30 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const s
   return blocks;
 }
 
-std::vector<double> boundary_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance) {
-  int components = 0;
-  for (const auto& t : ts) components = std::max(components, t.component + 1);
-  std::vector<double> dev(static_cast<std::size_t>(components), 0.0);
-  for (const TMesh& t : ts) {
+}  // namespace
+
+std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const std::vector<int>& levels) {
+  check(params);
+  const std::size_t cubes = maps.blocks.empty() ? maps.boundary.size() : maps.blocks.size();
+  if (levels.size() != cubes)
+    throw core::ConfigError("tmesh: " + std::to_string(levels.size()) + " levels for " + std::to_string(cubes) + " cubes");
+  for (const int l : levels)
+    if (l < params.level || l > 7) throw core::ConfigError("tmesh: a cube's level " + std::to_string(l) + " is outside [tmesh.level, 7]");
+  // Refinement of boundary elements (Liu et al. §5.1): the blocks on the surface at the cube's
+  // level, the others (the core) one coarser, 2:1 across their faces.
+  return build_with(maps, params, [&](std::size_t k, std::size_t, bool on_surface) {
+    return on_surface || params.refine == "cube" ? levels[k] : std::max(params.level, levels[k] - 1);
+  });
+}
+
+namespace {
+
+// Per block of ts: the largest distance at its boundary faces (0 without one).
+std::vector<double> block_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance) {
+  std::vector<double> dev(ts.size(), 0.0);
+  for (std::size_t b = 0; b < ts.size(); ++b) {
+    const TMesh& t = ts[b];
+    if (std::none_of(t.boundary.begin(), t.boundary.end(), [](int f) { return f != 0; })) continue;
     bezier::TensorBSplineVolume vol;
     vol.degree = {t.degree, t.degree, t.degree};
     vol.knots = t.knots;
@@ -381,7 +403,6 @@ std::vector<double> boundary_deviation(const std::vector<TMesh>& ts, const std::
         g[static_cast<std::size_t>(a)].push_back(0.5 * (iv[0] + iv[1]));
         g[static_cast<std::size_t>(a)].push_back(iv[1]);
       }
-    double& d = dev[static_cast<std::size_t>(t.component)];
     for (int f = 0; f < 6; ++f) {
       if (!t.boundary[static_cast<std::size_t>(f)]) continue;
       const int a = f / 2, u = (a + 1) % 3, v = (a + 2) % 3;
@@ -391,10 +412,21 @@ std::vector<double> boundary_deviation(const std::vector<TMesh>& ts, const std::
           q[a] = f % 2 ? g[static_cast<std::size_t>(a)].back() : g[static_cast<std::size_t>(a)].front();
           q[u] = x, q[v] = y;
           const Eigen::Vector3d p = bezier::evaluate(vol, q);
-          d = std::max(d, distance({p[0], p[1], p[2]}));
+          dev[b] = std::max(dev[b], distance({p[0], p[1], p[2]}));
         }
     }
   }
+  return dev;
+}
+
+}  // namespace
+
+std::vector<double> boundary_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance) {
+  int components = 0;
+  for (const auto& t : ts) components = std::max(components, t.component + 1);
+  std::vector<double> dev(static_cast<std::size_t>(components), 0.0);
+  const std::vector<double> per_block = block_deviation(ts, distance);
+  for (std::size_t b = 0; b < ts.size(); ++b) dev[static_cast<std::size_t>(ts[b].component)] = std::max(dev[static_cast<std::size_t>(ts[b].component)], per_block[b]);
   return dev;
 }
 
@@ -411,77 +443,102 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
   const bool measure = maps.surface_distance && maps.diagonal > 0;
   const bool adaptive = measure && params.epsilon_rel > 0 && params.max_level > params.level;
   lv.stop = "disabled";
-  auto record = [&](const std::vector<double>& dev) {
-    lv.cube_deviation_rel.clear();
-    for (const double d : dev) lv.cube_deviation_rel.push_back(d / maps.diagonal);
-    lv.deviation_rel = dev.empty() ? 0.0 : *std::max_element(dev.begin(), dev.end()) / maps.diagonal;
+  // Levels are per block (Liu et al. §5.1 refines boundary elements): blocks on the surface go
+  // finer by their own deviation, the others only as 2:1 balance asks; with refine "cube" a
+  // cube's blocks keep one level, its finest.
+  const std::size_t nb = blocks.size();
+  std::vector<std::size_t> offset(cubes + 1, 0);  // first block of each cube
+  for (const TMesh& t : blocks) ++offset[static_cast<std::size_t>(t.component) + 1];
+  for (std::size_t k = 0; k < cubes; ++k) offset[k + 1] += offset[k];
+  auto per_cube = [&](const std::vector<double>& per_block) {
+    std::vector<double> dev(cubes, 0.0);
+    for (std::size_t i = 0; i < nb; ++i) dev[static_cast<std::size_t>(blocks[i].component)] = std::max(dev[static_cast<std::size_t>(blocks[i].component)], per_block[i]);
+    return dev;
   };
-  if (measure && !adaptive) record(boundary_deviation(blocks, maps.surface_distance));
+  auto record = [&](const std::vector<double>& per_block) {
+    lv.cube_deviation_rel.clear();
+    for (const double d : per_cube(per_block)) lv.cube_deviation_rel.push_back(d / maps.diagonal);
+    lv.deviation_rel = lv.cube_deviation_rel.empty() ? 0.0 : *std::max_element(lv.cube_deviation_rel.begin(), lv.cube_deviation_rel.end());
+  };
+  if (measure && !adaptive) record(block_deviation(blocks, maps.surface_distance));
   if (adaptive) {
     const double tol = params.epsilon_rel * maps.diagonal;
-    // Cubes that share a point (2:1 balance across faces, edges and corners).
-    std::vector<std::set<int>> near(cubes);
+    std::vector<int> level(nb, params.level);
+    auto build_levels = [&](const std::vector<int>& l) {
+      return build_with(maps, params, [&](std::size_t k, std::size_t j, bool) { return l[offset[k] + j]; });
+    };
+    // Blocks that share a point (2:1 balance across faces, edges and corners).
+    std::vector<std::set<std::size_t>> near(nb);
     {
-      std::map<std::array<long long, 3>, std::set<int>> at;
-      for (const TMesh& t : blocks)
-        for (const auto& x : t.control_points) at[{std::llround(x[0] / (1e-9 * maps.diagonal)), std::llround(x[1] / (1e-9 * maps.diagonal)),
-                                                   std::llround(x[2] / (1e-9 * maps.diagonal))}].insert(t.component);
+      std::map<std::array<long long, 3>, std::set<std::size_t>> at;
+      const double cell = 1e-9 * maps.diagonal;
+      for (std::size_t i = 0; i < nb; ++i)
+        for (const auto& x : blocks[i].control_points) at[{std::llround(x[0] / cell), std::llround(x[1] / cell), std::llround(x[2] / cell)}].insert(i);
       for (const auto& [key, set] : at)
-        for (const int a : set)
-          for (const int b : set)
-            if (a != b) near[static_cast<std::size_t>(a)].insert(b);
+        for (const std::size_t i : set)
+          for (const std::size_t j : set)
+            if (i != j) near[i].insert(j);
     }
-    // A cube whose deviation a level did not lower by kGain is saturated: what is left is the
+    // A block whose deviation a level did not lower by kGain is saturated: what is left is the
     // input's own faceting (the volume map's boundary is the triangulated surface, which a smooth
     // spline through its points misses by the facets' sagitta at any level).
     constexpr double kGain = 0.8;
-    std::vector<double> dev = boundary_deviation(blocks, maps.surface_distance), last;
+    std::vector<double> dev = block_deviation(blocks, maps.surface_distance), last;
     std::vector<int> previous;
-    std::vector<char> saturated(cubes, 0);
+    std::vector<char> saturated(nb, 0);
     for (;;) {
       if (!last.empty()) {
         bool gained = false;
-        for (std::size_t c = 0; c < cubes && c < dev.size(); ++c) {
-          if (lv.level[c] == previous[c] || last[c] <= tol) continue;  // not refined for its own deviation
-          if (dev[c] <= kGain * last[c]) gained = true;
-          else saturated[c] = 1;
+        for (std::size_t i = 0; i < nb; ++i) {
+          if (level[i] == previous[i] || last[i] <= tol) continue;  // not refined for its own deviation
+          if (dev[i] <= kGain * last[i]) gained = true;
+          else saturated[i] = 1;
         }
         if (!gained) {  // the last round bought elements and no accuracy: undo it
-          lv.level = previous, --lv.refinements, dev = last;
-          blocks = build(maps, params, lv.level);
+          level = previous, --lv.refinements, dev = last;
+          blocks = build_levels(level);
           lv.stop = "no_gain";
           break;
         }
       }
-      std::vector<int> next = lv.level;
+      std::vector<int> next = level;
       bool refine = false, capped = false;
-      for (std::size_t c = 0; c < cubes; ++c)
-        if (c < dev.size() && dev[c] > tol && !saturated[c]) {
-          if (next[c] < params.max_level) ++next[c], refine = true;
+      for (std::size_t i = 0; i < nb; ++i)
+        if (dev[i] > tol && !saturated[i]) {
+          if (next[i] < params.max_level) ++next[i], refine = true;
           else capped = true;
         }
       if (!refine) {
         lv.stop = capped ? "max_level" : std::any_of(saturated.begin(), saturated.end(), [](char x) { return x != 0; }) ? "no_gain" : "within_epsilon";
         break;
       }
-      for (bool changed = true; changed;) {  // 2:1: raise the coarser of two near cubes
+      for (bool changed = true; changed;) {
         changed = false;
-        for (std::size_t c = 0; c < cubes; ++c)
-          for (const int o : near[c])
-            if (next[c] < next[static_cast<std::size_t>(o)] - 1) next[c] = next[static_cast<std::size_t>(o)] - 1, changed = true;
+        if (params.refine == "cube")
+          for (std::size_t k = 0; k < cubes; ++k) {
+            const int top = *std::max_element(next.begin() + static_cast<std::ptrdiff_t>(offset[k]), next.begin() + static_cast<std::ptrdiff_t>(offset[k + 1]));
+            for (std::size_t i = offset[k]; i < offset[k + 1]; ++i)
+              if (next[i] != top) next[i] = top, changed = true;
+          }
+        for (std::size_t i = 0; i < nb; ++i)  // 2:1: raise the coarser of two blocks that touch
+          for (const std::size_t j : near[i])
+            if (next[i] < next[j] - 1) next[i] = next[j] - 1, changed = true;
       }
       try {
-        blocks = build(maps, params, next);
+        blocks = build_levels(next);
       } catch (const core::TopologyError& e) {
         core::log_warning(std::string("tmesh: adaptive levels stop: ") + e.what());
-        lv.stop = "not_face_to_face";  // `blocks` are still those of lv.level
+        lv.stop = "not_face_to_face";  // `blocks` are still those of `level`
         break;
       }
-      previous = lv.level, lv.level = next, last = dev;
+      previous = level, level = next, last = dev;
       ++lv.refinements;
-      dev = boundary_deviation(blocks, maps.surface_distance);
+      dev = block_deviation(blocks, maps.surface_distance);
     }
     record(dev);
+    lv.level.assign(cubes, params.level);
+    for (std::size_t i = 0; i < nb; ++i) lv.level[static_cast<std::size_t>(blocks[i].component)] = std::max(lv.level[static_cast<std::size_t>(blocks[i].component)], level[i]);
+    lv.refined_blocks = static_cast<int>(std::count_if(level.begin(), level.end(), [&](int l) { return l > params.level; }));
   }
   if (out) *out = lv;
   return blocks;

@@ -66,18 +66,18 @@ struct Params {
   /// physical_pillow): "physical" (one thickness in the solid along every axis) or "parametric"
   /// (one thickness in every cube's parameters, as before session 25).
   std::string pillow_thickness = "physical";
-  /// Adaptive levels (Liu et al. §5.1): a cube goes one level finer while the boundary faces of
-  /// its blocks deviate from the input surface by more than `epsilon_rel` × the surface's
+  /// Adaptive levels (Liu et al. §5.1): a block on the surface goes one level finer while its
+  /// boundary faces deviate from the input surface by more than `epsilon_rel` × the surface's
   /// bounding-box diagonal (sampled at element corners and midpoints, before optimization), up to
   /// `max_level` and while a level lowers its deviation by a fifth at least (Levels::stop);
-  /// cubes that share a point differ by at most one level (2:1). 0 = every cube at `level`
+  /// blocks that share a point differ by at most one level (2:1). 0 = every block at `level`
   /// [0, 1] (dimensionless).
   double epsilon_rel = 0.005;
   /// The finest level adaptivity may reach; at or below `level` there is no refinement [1, 7].
   int max_level = 4;
-  /// What a cube's level refines: "boundary" (its blocks with a face on the surface — the pillow
-  /// slabs, the boundary elements of §5.1 — while the others stay one level coarser, at least
-  /// `level`) or "cube" (every block).
+  /// What adaptivity refines: "boundary" (the blocks with a face on the surface — the pillow
+  /// slabs, the boundary elements of §5.1 — each by its own deviation, the others only as 2:1
+  /// asks) or "cube" (every block of a cube one level, its finest).
   std::string refine = "boundary";
 };
 
@@ -148,10 +148,12 @@ struct PolycubeMaps {
   double diagonal = 0;
 };
 
-/// What build() chose: the level of each cube (maps' order) and the sampled boundary deviation
-/// of the result relative to the diagonal (0 without a surface_distance).
+/// What build() chose: the level of each cube (maps' order; the finest of its blocks, each of
+/// which has its own level, TMesh::level) and the sampled boundary deviation of the result
+/// relative to the diagonal (0 without a surface_distance).
 struct Levels {
   std::vector<int> level;
+  int refined_blocks = 0;  ///< blocks finer than Params::level
   std::vector<double> cube_deviation_rel;  ///< per cube, relative to the diagonal (empty without a surface_distance)
   double deviation_rel = 0;
   int refinements = 0;  ///< rounds of refinement run (each raised some cube one level)
