@@ -491,7 +491,7 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
         bool gained = false;
         for (std::size_t i = 0; i < nb; ++i) {
           if (level[i] == previous[i] || last[i] <= tol) continue;  // not refined for its own deviation
-          if (dev[i] <= kGain * last[i]) gained = true;
+          if (dev[i] <= tol || dev[i] <= kGain * last[i]) gained = true;  // within ε now, or a fifth closer
           else saturated[i] = 1;
         }
         if (!gained) {  // the last round bought elements and no accuracy: undo it
