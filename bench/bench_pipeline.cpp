@@ -64,6 +64,9 @@ const std::vector<Model>& all_models() {
       {"torus", "torus", "", 24, &kTorus, 0.5},
       {"cinolib_torus", "", "cinolib_torus.obj", 24, &kTorus, 0.5},
       {"eight", "", "cfwen_eight.off", 24, &kEight, 0.4},
+      // Adaptive levels (tmesh.epsilon_rel): the slabs whose boundary misses the surface by more
+      // than 0.002 of the diagonal one level finer, T-junctions where levels differ.
+      {"eight-adaptive", "", "cfwen_eight.off", 24, &kEight, 0.4, "tmesh: {epsilon_rel: 0.002}"},
       // Defaults since session 26: split.genus2 auto cuts the shank near its eyes (0.85) where 0.5
       // fails, its small end on the shoulder (examples/rod.yaml).
       {"rod", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4},

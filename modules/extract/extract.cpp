@@ -231,61 +231,61 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
       }
       el.op = dense.sparseView(0.0, 0.0);
     } else {
-    for (int& id : local) id = function_of[static_cast<std::size_t>(id)];
-    el.functions = local;
-    std::sort(el.functions.begin(), el.functions.end());
-    el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
-    // Columns of the nonzero entries of every 1-D operator row: a product with a zero factor is
-    // zero, so only these products are formed (a tenth of all (p+1)^3 columns).
-    std::array<std::vector<std::vector<int>>, 3> nonzero;
-    for (int d = 0; d < 3; ++d) {
-      const Eigen::MatrixXd& C = d == 0 ? Cu : d == 1 ? Cv : Cw;
-      nonzero[d].resize(static_cast<std::size_t>(q));
-      for (int r = 0; r < q; ++r)
-        for (int col = 0; col < q; ++col)
-          if (C(r, col) != 0.0) nonzero[d][static_cast<std::size_t>(r)].push_back(col);
-    }
-    // The operator filled row by row, columns ascending, straight into its row-major storage.
-    // Entry (row, column) sums the products of the row's local functions in local order, as
-    // setFromTriplets summed triplets listed in local order: the same values bit for bit,
-    // without the triplets (up to (p+1)^6 per element) and setFromTriplets' transposed copy,
-    // most of extract's allocations.
-    const std::size_t nb = static_cast<std::size_t>(q * q * q);
-    std::vector<int> row_of(nb), by_row(nb);
-    std::size_t products = 0;
-    for (std::size_t l = 0; l < nb; ++l) {
-      row_of[l] = static_cast<int>(std::lower_bound(el.functions.begin(), el.functions.end(), local[l]) - el.functions.begin());
-      by_row[l] = static_cast<int>(l);
-      const std::size_t uq = static_cast<std::size_t>(q);
-      products += nonzero[0][l % uq].size() * nonzero[1][(l / uq) % uq].size() * nonzero[2][l / (uq * uq)].size();
-    }
-    std::stable_sort(by_row.begin(), by_row.end(), [&](int x, int y) { return row_of[static_cast<std::size_t>(x)] < row_of[static_cast<std::size_t>(y)]; });
-    std::vector<double> sum(nb, 0.0);
-    std::vector<char> used(nb, 0);
-    el.op.resize(static_cast<int>(el.functions.size()), static_cast<int>(nb));
-    el.op.reserve(static_cast<Eigen::Index>(products));
-    for (std::size_t at = 0; at < nb;) {
-      const int row = row_of[static_cast<std::size_t>(by_row[at])];
-      el.op.startVec(row);
-      for (; at < nb && row_of[static_cast<std::size_t>(by_row[at])] == row; ++at) {
-        const int l = by_row[at];
-        const int a = l % q, bb = (l / q) % q, c = l / (q * q);
-        for (const int cw : nonzero[2][static_cast<std::size_t>(c)])
-          for (const int cv : nonzero[1][static_cast<std::size_t>(bb)])
-            for (const int cu : nonzero[0][static_cast<std::size_t>(a)]) {
-              const double v = Cu(a, cu) * Cv(bb, cv) * Cw(c, cw);
-              if (v == 0.0) continue;
-              const std::size_t col = static_cast<std::size_t>(cu + q * (cv + q * cw));
-              sum[col] += v, used[col] = 1;  // 0 + v is v: the first term is copied exactly
-            }
+      for (int& id : local) id = function_of[static_cast<std::size_t>(id)];
+      el.functions = local;
+      std::sort(el.functions.begin(), el.functions.end());
+      el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
+      // Columns of the nonzero entries of every 1-D operator row: a product with a zero factor is
+      // zero, so only these products are formed (a tenth of all (p+1)^3 columns).
+      std::array<std::vector<std::vector<int>>, 3> nonzero;
+      for (int d = 0; d < 3; ++d) {
+        const Eigen::MatrixXd& C = d == 0 ? Cu : d == 1 ? Cv : Cw;
+        nonzero[d].resize(static_cast<std::size_t>(q));
+        for (int r = 0; r < q; ++r)
+          for (int col = 0; col < q; ++col)
+            if (C(r, col) != 0.0) nonzero[d][static_cast<std::size_t>(r)].push_back(col);
       }
-      for (std::size_t col = 0; col < nb; ++col)
-        if (used[col]) {
-          el.op.insertBack(row, static_cast<int>(col)) = sum[col];  // kept if it cancels, as setFromTriplets did
-          sum[col] = 0.0, used[col] = 0;
+      // The operator filled row by row, columns ascending, straight into its row-major storage.
+      // Entry (row, column) sums the products of the row's local functions in local order, as
+      // setFromTriplets summed triplets listed in local order: the same values bit for bit,
+      // without the triplets (up to (p+1)^6 per element) and setFromTriplets' transposed copy,
+      // most of extract's allocations.
+      const std::size_t nb = static_cast<std::size_t>(q * q * q);
+      std::vector<int> row_of(nb), by_row(nb);
+      std::size_t products = 0;
+      for (std::size_t l = 0; l < nb; ++l) {
+        row_of[l] = static_cast<int>(std::lower_bound(el.functions.begin(), el.functions.end(), local[l]) - el.functions.begin());
+        by_row[l] = static_cast<int>(l);
+        const std::size_t uq = static_cast<std::size_t>(q);
+        products += nonzero[0][l % uq].size() * nonzero[1][(l / uq) % uq].size() * nonzero[2][l / (uq * uq)].size();
+      }
+      std::stable_sort(by_row.begin(), by_row.end(), [&](int x, int y) { return row_of[static_cast<std::size_t>(x)] < row_of[static_cast<std::size_t>(y)]; });
+      std::vector<double> sum(nb, 0.0);
+      std::vector<char> used(nb, 0);
+      el.op.resize(static_cast<int>(el.functions.size()), static_cast<int>(nb));
+      el.op.reserve(static_cast<Eigen::Index>(products));
+      for (std::size_t at = 0; at < nb;) {
+        const int row = row_of[static_cast<std::size_t>(by_row[at])];
+        el.op.startVec(row);
+        for (; at < nb && row_of[static_cast<std::size_t>(by_row[at])] == row; ++at) {
+          const int l = by_row[at];
+          const int a = l % q, bb = (l / q) % q, c = l / (q * q);
+          for (const int cw : nonzero[2][static_cast<std::size_t>(c)])
+            for (const int cv : nonzero[1][static_cast<std::size_t>(bb)])
+              for (const int cu : nonzero[0][static_cast<std::size_t>(a)]) {
+                const double v = Cu(a, cu) * Cv(bb, cv) * Cw(c, cw);
+                if (v == 0.0) continue;
+                const std::size_t col = static_cast<std::size_t>(cu + q * (cv + q * cw));
+                sum[col] += v, used[col] = 1;  // 0 + v is v: the first term is copied exactly
+              }
         }
-    }
-    el.op.finalize();
+        for (std::size_t col = 0; col < nb; ++col)
+          if (used[col]) {
+            el.op.insertBack(row, static_cast<int>(col)) = sum[col];  // kept if it cancels, as setFromTriplets did
+            sum[col] = 0.0, used[col] = 0;
+          }
+      }
+      el.op.finalize();
     }
     // Partition of unity and reproduction of the extracted hex.
     const bezier::BezierHex& h = hexes[e];

@@ -746,18 +746,18 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       if (q[e].valid && q[e].scaled >= select && !(with_tri && q[e].trilinear < params.trilinear_target)) continue;
       for (const int local : s.points_of(e))
         for (const auto& [id, w] : s.nodes_of(s.block_of(e), local)) {
-        if (static_cast<std::size_t>(id) >= var_of.size()) var_of.resize(static_cast<std::size_t>(id) + 1, -1);
-        if (var_of[static_cast<std::size_t>(id)] != -1) continue;
-        SlideFrame f;
-        if (s.on_surface(id) && !(surface && slide_frame(s, *surface, id, params.slide_sharp_curves, f))) {
-          var_of[static_cast<std::size_t>(id)] = -2;
-          continue;
+          if (static_cast<std::size_t>(id) >= var_of.size()) var_of.resize(static_cast<std::size_t>(id) + 1, -1);
+          if (var_of[static_cast<std::size_t>(id)] != -1) continue;
+          SlideFrame f;
+          if (s.on_surface(id) && !(surface && slide_frame(s, *surface, id, params.slide_sharp_curves, f))) {
+            var_of[static_cast<std::size_t>(id)] = -2;
+            continue;
+          }
+          var_of[static_cast<std::size_t>(id)] = static_cast<int>(ids.size());
+          ids.push_back(id);
+          first.push_back(first.empty() ? 0 : first.back() + width(frame.back()));
+          frame.push_back(f);
         }
-        var_of[static_cast<std::size_t>(id)] = static_cast<int>(ids.size());
-        ids.push_back(id);
-        first.push_back(first.empty() ? 0 : first.back() + width(frame.back()));
-        frame.push_back(f);
-      }
     }
     if (ids.empty()) return;
     // A refused round leaves every node where it was, so a narrowed window that selects the same
@@ -987,14 +987,14 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           const std::size_t e = static_cast<std::size_t>(els[todo[i]]);
           for (const int local : s.points_of(e))
             for (const auto& [id, wt] : s.nodes_of(s.block_of(e), local)) {
-            const int v = static_cast<std::size_t>(id) < var_of.size() ? var_of[static_cast<std::size_t>(id)] : -1;
-            if (v < 0 || back[static_cast<std::size_t>(v)]) continue;
-            back[static_cast<std::size_t>(v)] = 1, ++t.reverted;
-            const std::size_t at = first[static_cast<std::size_t>(v)];
-            for (std::size_t d = 0; d < width(frame[static_cast<std::size_t>(v)]); ++d) t.y[at + d] = x0[at + d];
-            s.set_position(id, place(static_cast<std::size_t>(v), x0, false));
-            for (const int e2 : s.elements_of(id)) dirty[static_cast<std::size_t>(index_of[static_cast<std::size_t>(e2)])] = 1;
-          }
+              const int v = static_cast<std::size_t>(id) < var_of.size() ? var_of[static_cast<std::size_t>(id)] : -1;
+              if (v < 0 || back[static_cast<std::size_t>(v)]) continue;
+              back[static_cast<std::size_t>(v)] = 1, ++t.reverted;
+              const std::size_t at = first[static_cast<std::size_t>(v)];
+              for (std::size_t d = 0; d < width(frame[static_cast<std::size_t>(v)]); ++d) t.y[at + d] = x0[at + d];
+              s.set_position(id, place(static_cast<std::size_t>(v), x0, false));
+              for (const int e2 : s.elements_of(id)) dirty[static_cast<std::size_t>(index_of[static_cast<std::size_t>(e2)])] = 1;
+            }
         }
       }
       t.worst = t.tri = std::numeric_limits<double>::infinity();
