@@ -715,8 +715,13 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
   const auto ids = global_ids(ts, &c.nodes);
   std::vector<char> on_surface(static_cast<std::size_t>(c.nodes), 0), junction(static_cast<std::size_t>(c.nodes), 0);
   std::vector<std::set<int>> nb(static_cast<std::size_t>(c.nodes));
+  std::vector<char> named(static_cast<std::size_t>(c.nodes), 0);  // named by a T-junction's row: on a face between levels
   for (std::size_t b = 0; b < ts.size(); ++b)
-    for (const auto& k : ts[b].constraints) junction[static_cast<std::size_t>(ids[b][static_cast<std::size_t>(k.point)])] = 1;
+    for (const auto& k : ts[b].constraints) {
+      junction[static_cast<std::size_t>(ids[b][static_cast<std::size_t>(k.point)])] = 1;
+      for (const int m : k.ids)
+        if (m >= 0 && m < c.nodes) named[static_cast<std::size_t>(m)] = 1;
+    }
   for (std::size_t b = 0; b < ts.size(); ++b) {
     const TMesh& t = ts[b];
     for (int k = 0; k < t.size[2]; ++k)
@@ -741,9 +746,12 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
   for (int v = 0; v < c.nodes; ++v) {
     const auto& n = nb[static_cast<std::size_t>(v)];
     if (n.empty()) continue;  // an id no block uses
-    if (junction[static_cast<std::size_t>(v)]) {
-      ++c.t_junctions;
+    if (junction[static_cast<std::size_t>(v)]) ++c.t_junctions;
+    // A node on a face between levels has its neighbours across the face in the finer net, as
+    // T-junctions: its valence in one level's net says nothing; neither regular nor irregular.
+    if (junction[static_cast<std::size_t>(v)] || named[static_cast<std::size_t>(v)]) {
       if (on_surface[static_cast<std::size_t>(v)]) ++c.surface;
+      if (!junction[static_cast<std::size_t>(v)]) ++c.level_interface;
       continue;
     }
     if (on_surface[static_cast<std::size_t>(v)]) {
@@ -779,6 +787,7 @@ core::Json report_figures(const std::vector<TMesh>& ts, double before, double af
   return core::Json{{"nodes", nc.nodes},
                     {"functions", nc.nodes - nc.t_junctions},
                     {"t_junctions", nc.t_junctions},
+                    {"level_interface_nodes", nc.level_interface},
                     {"min_level", min_level},
                     {"control_points", control_points},
                     {"cubes", cubes.size()},

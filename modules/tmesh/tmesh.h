@@ -200,15 +200,18 @@ double trilinear_min_scaled_jacobian(const std::array<std::array<double, 3>, 8>&
 core::Json to_json(const TMesh& t);
 TMesh from_json(const core::Json& j, const std::string& file);
 /// Report keys: nodes (T-mesh nodes: functions and T-junctions), functions, t_junctions,
+/// level_interface_nodes (NodeCounts::level_interface),
 /// control_points, cubes, blocks, elements, min_level, max_level, irregular_nodes_surface,
 /// irregular_nodes_interior, min_scaled_jacobian_before/after.
 core::Json report_figures(const std::vector<TMesh>& t, double min_sj_before, double min_sj_after);
 
 /// Node counts of the control mesh (nodes = functions + T-junctions): a surface node is irregular
 /// if its number of neighbours on the surface is not 4, an interior node if its number of
-/// neighbours is not 6; T-junctions are neither.
+/// neighbours is not 6; T-junctions and the nodes their rows name (on faces between levels, whose
+/// neighbours across the face are the finer net's T-junctions) are neither.
 struct NodeCounts {
   int nodes = 0, surface = 0, irregular_surface = 0, irregular_interior = 0, t_junctions = 0;
+  int level_interface = 0;  ///< nodes named by T-junction rows (not classified regular or irregular)
 };
 NodeCounts count_nodes(const std::vector<TMesh>& t);
 

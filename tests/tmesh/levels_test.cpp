@@ -172,6 +172,7 @@ TEST(Levels, SplinesAreC0AndAPartitionOfUnityWhereLevelsDiffer) {
         }
       EXPECT_EQ(static_cast<int>(junctions.size()), n.t_junctions);
       EXPECT_GT(n.t_junctions, 0);
+      EXPECT_GT(n.level_interface, 0);
     }
 }
 
