@@ -743,23 +743,58 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
           }
         }
   }
+  // A node on a face toward a finer level (every point of the face named by rows or, on its rim,
+  // a T-junction toward a coarser one) that is no T-junction itself has one neighbour across it in the T-mesh, a T-junction of the finer
+  // net that its own net does not link: one per direction across (coplanar faces of two blocks
+  // at one node are one direction).
+  std::vector<std::vector<Eigen::Vector3d>> across(static_cast<std::size_t>(c.nodes));
+  for (std::size_t b = 0; b < ts.size(); ++b) {
+    const TMesh& t = ts[b];
+    for (int f = 0; f < 6; ++f) {
+      if (t.boundary[static_cast<std::size_t>(f)]) continue;
+      const int a = f / 2, u = (a + 1) % 3, w = (a + 2) % 3;
+      if (t.size[a] < 2) continue;
+      std::vector<std::size_t> pts;
+      bool interface = true;
+      for (int j = 0; j < t.size[w] && interface; ++j)
+        for (int i = 0; i < t.size[u] && interface; ++i) {
+          std::array<int, 3> idx{};
+          idx[static_cast<std::size_t>(a)] = f % 2 ? t.size[a] - 1 : 0, idx[static_cast<std::size_t>(u)] = i, idx[static_cast<std::size_t>(w)] = j;
+          const auto at = static_cast<std::size_t>(idx[0] + t.size[0] * (idx[1] + t.size[1] * idx[2]));
+          const auto id = static_cast<std::size_t>(ids[b][at]);
+          interface = named[id] || junction[id];  // a T-junction of its own on the face's rim (three levels)
+          if (named[id] && !junction[id]) pts.push_back(at);
+        }
+      if (!interface) continue;
+      const std::size_t stride = a == 0 ? 1 : a == 1 ? static_cast<std::size_t>(t.size[0]) : static_cast<std::size_t>(t.size[0]) * t.size[1];
+      for (const std::size_t at : pts) {
+        const std::size_t in = f % 2 ? at - stride : at + stride;
+        const auto& x = t.control_points[at];
+        const auto& y = t.control_points[in];
+        Eigen::Vector3d d(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
+        if (!(d.norm() > 0)) continue;
+        d.normalize();
+        auto& dirs = across[static_cast<std::size_t>(ids[b][at])];
+        if (std::none_of(dirs.begin(), dirs.end(), [&](const Eigen::Vector3d& e) { return e.dot(d) > 0.9; })) dirs.push_back(d);
+      }
+    }
+  }
   for (int v = 0; v < c.nodes; ++v) {
     const auto& n = nb[static_cast<std::size_t>(v)];
     if (n.empty()) continue;  // an id no block uses
-    if (junction[static_cast<std::size_t>(v)]) ++c.t_junctions;
-    // A node on a face between levels has its neighbours across the face in the finer net, as
-    // T-junctions: its valence in one level's net says nothing; neither regular nor irregular.
-    if (junction[static_cast<std::size_t>(v)] || named[static_cast<std::size_t>(v)]) {
+    if (junction[static_cast<std::size_t>(v)]) {  // a T-junction: on a face or an edge of the coarser net, neither regular nor irregular
+      ++c.t_junctions;
       if (on_surface[static_cast<std::size_t>(v)]) ++c.surface;
-      if (!junction[static_cast<std::size_t>(v)]) ++c.level_interface;
       continue;
     }
+    if (named[static_cast<std::size_t>(v)]) ++c.level_interface;
+    const int extra = static_cast<int>(across[static_cast<std::size_t>(v)].size());
     if (on_surface[static_cast<std::size_t>(v)]) {
       ++c.surface;
-      int on = 0;
+      int on = extra;
       for (const int w : n) on += on_surface[static_cast<std::size_t>(w)];
       if (on != 4) ++c.irregular_surface;
-    } else if (n.size() != 6) {
+    } else if (static_cast<int>(n.size()) + extra != 6) {
       ++c.irregular_interior;
     }
   }

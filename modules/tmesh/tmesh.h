@@ -207,11 +207,12 @@ core::Json report_figures(const std::vector<TMesh>& t, double min_sj_before, dou
 
 /// Node counts of the control mesh (nodes = functions + T-junctions): a surface node is irregular
 /// if its number of neighbours on the surface is not 4, an interior node if its number of
-/// neighbours is not 6; T-junctions and the nodes their rows name (on faces between levels, whose
-/// neighbours across the face are the finer net's T-junctions) are neither.
+/// neighbours is not 6; T-junctions are neither; a node on a face toward a finer level counts one
+/// neighbour more per direction across such faces (the T-junction there, which its own net does
+/// not link).
 struct NodeCounts {
   int nodes = 0, surface = 0, irregular_surface = 0, irregular_interior = 0, t_junctions = 0;
-  int level_interface = 0;  ///< nodes named by T-junction rows (not classified regular or irregular)
+  int level_interface = 0;  ///< nodes named by T-junction rows (on faces toward a finer level)
 };
 NodeCounts count_nodes(const std::vector<TMesh>& t);
 

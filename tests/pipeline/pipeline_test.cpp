@@ -389,6 +389,10 @@ TEST(Pipeline, EightRefinesTheCubesFarFromItsSurfaceWithTJunctions) {
   EXPECT_GT(t["t_junctions"].get<int>(), 0);
   EXPECT_EQ(t["functions"].get<int>(), t["nodes"].get<int>() - t["t_junctions"].get<int>());
   EXPECT_GT(t["elements"].get<int>(), flat["elements"].get<int>());
+  // The connector's end-face corners (Liu et al. Fig. 11), the eight's irregular surface nodes,
+  // are the same with T-junctions around them.
+  EXPECT_EQ(flat["irregular_nodes_surface"], 8);
+  EXPECT_EQ(t["irregular_nodes_surface"], flat["irregular_nodes_surface"]);
   const core::Json& x = rep["stages"]["extract"];
   EXPECT_EQ(x["global_functions"], t["functions"]);
   EXPECT_LE(x["partition_of_unity_error"].get<double>(), 1e-12);

@@ -173,6 +173,10 @@ TEST(Levels, SplinesAreC0AndAPartitionOfUnityWhereLevelsDiffer) {
       EXPECT_EQ(static_cast<int>(junctions.size()), n.t_junctions);
       EXPECT_GT(n.t_junctions, 0);
       EXPECT_GT(n.level_interface, 0);
+      // The ring's surface net is regular (quads around the tube, four at every node) at one
+      // level; T-junctions and the nodes across from them must not read as irregular.
+      EXPECT_EQ(tmesh::count_nodes(tmesh::build(maps, p, std::vector<int>(static_cast<std::size_t>(k), 2))).irregular_surface, 0);
+      EXPECT_EQ(n.irregular_surface, 0);
     }
 }
 
