@@ -56,20 +56,25 @@ core::Json worst_blocks(const std::vector<tmesh::TMesh>& ts, const tmesh::Optimi
 core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surface, tmesh::PolycubeMaps maps) {
   std::vector<tmesh::TMesh> ts;
   tmesh::Levels levels;
-  {
-    core::LogSection s("octree, pillow and control points");
-    std::unique_ptr<tmesh::SlideSurface> dist;
-    if (ctx.config.tmesh.epsilon_rel > 0) {  // also measured without refinement (report key levels)
-      const surface::Mesh mesh = surface::mesh_from_json(surface, ctx.input_file("polycube"));
-      dist = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), surface::triangle_triples(mesh));
-      maps.surface_distance = [&dist](const tmesh::Vec3& x) {
-        const tmesh::Vec3 y = dist->closest(x);
+  // The input surface as closest-point queries, built once: the adaptive levels' deviation
+  // (measured whenever epsilon_rel > 0, report key levels) and the sliding surface nodes.
+  const bool slide_nodes = ctx.config.tmesh.optimize_sweeps > 0 && ctx.config.tmesh.slide_surface;
+  std::unique_ptr<tmesh::SlideSurface> input;
+  if (ctx.config.tmesh.epsilon_rel > 0 || slide_nodes) {
+    const surface::Mesh mesh = surface::mesh_from_json(surface, ctx.input_file("polycube"));
+    input = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), surface::triangle_triples(mesh));
+    if (ctx.config.tmesh.epsilon_rel > 0) {
+      maps.surface_distance = [&input](const tmesh::Vec3& x) {
+        const tmesh::Vec3 y = input->closest(x);
         return std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
       };
       Eigen::AlignedBox3d box;
       for (const auto& v : surface::vertex_array(mesh)) box.extend(Eigen::Vector3d(v[0], v[1], v[2]));
       maps.diagonal = box.diagonal().norm();
     }
+  }
+  {
+    core::LogSection s("octree, pillow and control points");
     ts = tmesh::build(maps, ctx.config.tmesh, &levels);
     std::map<int, int> per_level;
     for (const int l : levels.level) ++per_level[l];
@@ -98,14 +103,11 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     op.slide_sharp_curves = ctx.config.tmesh.slide_sharp_curves;
     // Optimize the figure extract reports: its Gauss points (0 = degree + 1) and the corners.
     op.gauss_points = ctx.config.extract.gauss_points > 0 ? ctx.config.extract.gauss_points : ctx.config.tmesh.degree + 1;
-    std::unique_ptr<tmesh::SlideSurface> slide;
-    if (ctx.config.tmesh.slide_surface) {
-      const surface::Mesh mesh = surface::mesh_from_json(surface, ctx.input_file("polycube"));
-      slide = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), surface::triangle_triples(mesh));
+    const tmesh::SlideSurface* slide = slide_nodes ? input.get() : nullptr;
+    if (slide)
       core::log("surface nodes slide along the input surface (" + std::to_string(slide->sharp_edges()) + " sharp edges, " +
                 std::to_string(slide->sharp_corners()) + " sharp corners" + (op.slide_sharp_curves ? ", sharp-curve nodes along their curve)" : " keep theirs)"));
-    }
-    opt = tmesh::optimize(ts, op, slide.get());
+    opt = tmesh::optimize(ts, op, slide);
   }
   {
     core::LogSection s("write");

@@ -158,8 +158,8 @@ using Row = std::map<int, double>;
 // The T-junction rows of the finer face (fine block bf, face ff) that meets the coarser face (bc,
 // fc) corner to corner: each fine point = the knot-insertion combination of the coarse face's
 // points (a tensor product of the two 1-D refinement matrices, oriented by the shared corners).
-void face_rows(const std::vector<TMesh>& blocks, const std::vector<std::vector<int>>& pos, const std::vector<std::vector<int>>& ids,
-               std::size_t bf, int ff, std::size_t bc, int fc, std::map<int, Row>* rows) {
+void face_rows(const std::vector<TMesh>& blocks, const std::vector<std::vector<int>>& pos, std::size_t bf, int ff, std::size_t bc, int fc,
+               std::map<int, Row>* rows) {
   const TMesh& f = blocks[bf];
   const TMesh& c = blocks[bc];
   const auto nf = face_size(f, ff), nc = face_size(c, fc);
@@ -196,7 +196,7 @@ void face_rows(const std::vector<TMesh>& blocks, const std::vector<std::vector<i
   }
   for (int j = 0; j < nf[1]; ++j)
     for (int i = 0; i < nf[0]; ++i) {
-      const int id = ids[bf][face_point(f, ff, i, j)];
+      const int id = f.function_ids[face_point(f, ff, i, j)];
       if (rows->count(id)) continue;
       const int ii = flip[0] ? nf[0] - 1 - i : i, jj = flip[1] ? nf[1] - 1 - j : j;
       Row row;
@@ -208,7 +208,7 @@ void face_rows(const std::vector<TMesh>& blocks, const std::vector<std::vector<i
           if (w == 0.0) continue;
           std::array<int, 2> st{};
           st[static_cast<std::size_t>(along[0])] = a, st[static_cast<std::size_t>(along[1])] = b;
-          row[ids[bc][face_point(c, fc, st[0], st[1])]] += w;
+          row[c.function_ids[face_point(c, fc, st[0], st[1])]] += w;
         }
       }
       (*rows)[id] = std::move(row);
@@ -302,14 +302,12 @@ std::vector<TMesh> build_with(const PolycubeMaps& maps, const Params& params, co
                                   std::to_string(list[0].first) + " (cube " + std::to_string(blocks[list[0].first].component) + ") is " +
                                   (list.size() == 1 ? "not the whole face of another block" : "shared by more than two blocks"));
   std::map<int, Row> rows;
-  std::vector<std::vector<int>> ids;
-  for (const auto& t : blocks) ids.push_back(t.function_ids);
   for (const auto& [key, list] : faces) {
     if (list.size() != 2) continue;
     auto [fine, coarse] = std::pair{list[0], list[1]};
     if (blocks[fine.first].level == blocks[coarse.first].level) continue;
     if (blocks[fine.first].level < blocks[coarse.first].level) std::swap(fine, coarse);
-    face_rows(blocks, pos, ids, fine.first, fine.second, coarse.first, coarse.second, &rows);
+    face_rows(blocks, pos, fine.first, fine.second, coarse.first, coarse.second, &rows);
   }
   if (!rows.empty()) {
     // A row may name T-junctions of a coarser level in turn (three levels at a face): substitute
