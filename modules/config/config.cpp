@@ -238,6 +238,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("pillow_thickness", c.tmesh.pillow_thickness, {"physical", "parametric"});
     s.get("epsilon_rel", c.tmesh.epsilon_rel, 0.0, 1.0);
     s.get("max_level", c.tmesh.max_level, 1, 7);
+    s.get("h_refine", c.tmesh.h_refine, 0, 3);
     s.get("refine", c.tmesh.refine, {"boundary", "cube"});
     s.finish();
   }
@@ -422,7 +423,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "pillow_thickness" << YAML::Value << c.tmesh.pillow_thickness;
   e << YAML::Key << "epsilon_rel" << YAML::Value << c.tmesh.epsilon_rel;
   e << YAML::Key << "max_level" << YAML::Value << c.tmesh.max_level;
-  e << YAML::Key << "refine" << YAML::Value << c.tmesh.refine << YAML::EndMap;
+  e << YAML::Key << "refine" << YAML::Value << c.tmesh.refine;
+  e << YAML::Key << "h_refine" << YAML::Value << c.tmesh.h_refine << YAML::EndMap;
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;

@@ -45,6 +45,7 @@ void check(const Params& params) {
   if (params.degree < 1 || params.degree > 5) throw core::ConfigError("tmesh.degree must be in [1, 5], got " + std::to_string(params.degree));
   if (params.pillow_layers < 0 || params.pillow_layers > 4)
     throw core::ConfigError("tmesh.pillow_layers must be in [0, 4], got " + std::to_string(params.pillow_layers));
+  if (params.h_refine < 0 || params.h_refine > 3) throw core::ConfigError("tmesh.h_refine must be in [0, 3], got " + std::to_string(params.h_refine));
 }
 
 }  // namespace
@@ -540,6 +541,129 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
   }
   if (out) *out = lv;
   return blocks;
+}
+
+std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, const std::vector<TMesh>& coarse, int times, std::vector<int>* parent) {
+  check(params);
+  if (times < 0 || times > 3) throw core::ConfigError("tmesh.h_refine must be in [0, 3], got " + std::to_string(times));
+  if (parent) parent->clear();
+  if (times == 0) {
+    if (parent) {
+      int n = 0;
+      for (const TMesh& t : coarse) n += t.elements();
+      parent->resize(static_cast<std::size_t>(n));
+      for (int e = 0; e < n; ++e) (*parent)[static_cast<std::size_t>(e)] = e;
+    }
+    return coarse;
+  }
+  // The structure (knots, ids, T-junction rows) is build()'s at every block's level + times; its
+  // positions are not needed, so the physical map is the identity (no point location).
+  PolycubeMaps structure = maps;
+  structure.physical = [](int, const Vec3& x) { return x; };
+  std::vector<std::size_t> offset;  // first block of each cube in `coarse`
+  for (std::size_t b = 0; b < coarse.size(); ++b)
+    if (b == 0 || coarse[b].component != coarse[b - 1].component) offset.push_back(b);
+  offset.push_back(coarse.size());
+  std::vector<TMesh> fine = build_with(structure, params, [&](std::size_t k, std::size_t j, bool) {
+    const std::size_t b = k + 1 < offset.size() ? offset[k] + j : coarse.size();
+    if (b >= coarse.size() || coarse[b].component != static_cast<int>(k))
+      throw core::InvalidInputError("tmesh h-refinement: the T-mesh's blocks are not those of its polycube (cube " + std::to_string(k) + ", block " + std::to_string(j) + ")");
+    return coarse[b].level + times;
+  });
+  if (fine.size() != coarse.size())
+    throw core::InvalidInputError("tmesh h-refinement: " + std::to_string(coarse.size()) + " blocks, but the polycube has " + std::to_string(fine.size()));
+  // Positions: each block's fine points are the knot-insertion refinement of its coarse points,
+  // Rᵀ·P per axis (bezier::refinement_matrix); a node shared by blocks keeps the first block's
+  // value (the others agree to rounding: one face, refined alike), and T-junctions are put where
+  // their rows say, as build() does.
+  double extent = 0;
+  for (const TMesh& t : coarse)
+    for (const auto& x : t.control_points)
+      for (const double v : x) extent = std::max(extent, std::abs(v));
+  const double tol = 1e-9 * std::max(extent, 1.0);
+  int ids = 0;
+  for (const TMesh& t : fine)
+    for (const int id : t.function_ids) ids = std::max(ids, id + 1);
+  std::vector<Vec3> position(static_cast<std::size_t>(ids));
+  std::vector<char> seen(static_cast<std::size_t>(ids), 0);
+  for (std::size_t b = 0; b < fine.size(); ++b) {
+    const TMesh& c = coarse[b];
+    TMesh& t = fine[b];
+    if (c.degree != t.degree || c.corners != t.corners)
+      throw core::InvalidInputError("tmesh h-refinement: block " + std::to_string(b) + " is not the polycube's (degree or corners differ)");
+    std::array<Eigen::MatrixXd, 3> R;
+    for (int a = 0; a < 3; ++a) R[static_cast<std::size_t>(a)] = bezier::refinement_matrix(c.knots[static_cast<std::size_t>(a)], t.knots[static_cast<std::size_t>(a)], t.degree);
+    // Along u, then v, then w: X(i',j,k) = Σ_i R0(i,i') P(i,j,k), and so on.
+    std::array<int, 3> n = c.size;
+    std::vector<Eigen::Vector3d> cur;
+    for (const auto& x : c.control_points) cur.emplace_back(x[0], x[1], x[2]);
+    for (int a = 0; a < 3; ++a) {
+      const Eigen::MatrixXd& M = R[static_cast<std::size_t>(a)];
+      std::array<int, 3> m = n;
+      m[static_cast<std::size_t>(a)] = static_cast<int>(M.cols());
+      std::vector<Eigen::Vector3d> next(static_cast<std::size_t>(m[0] * m[1] * m[2]), Eigen::Vector3d::Zero());
+      for (int k = 0; k < m[2]; ++k)
+        for (int j = 0; j < m[1]; ++j)
+          for (int i = 0; i < m[0]; ++i) {
+            std::array<int, 3> out{i, j, k}, in = out;
+            Eigen::Vector3d s = Eigen::Vector3d::Zero();
+            for (int r = 0; r < n[static_cast<std::size_t>(a)]; ++r) {
+              const double w = M(r, out[static_cast<std::size_t>(a)]);
+              if (w == 0) continue;
+              in[static_cast<std::size_t>(a)] = r;
+              s += w * cur[static_cast<std::size_t>(in[0] + n[0] * (in[1] + n[1] * in[2]))];
+            }
+            next[static_cast<std::size_t>(i + m[0] * (j + m[1] * k))] = s;
+          }
+      cur.swap(next), n = m;
+    }
+    if (n != t.size) throw core::InvalidInputError("tmesh h-refinement: block " + std::to_string(b) + " refines to another grid than the polycube's");
+    for (std::size_t i = 0; i < cur.size(); ++i) {
+      const std::size_t id = static_cast<std::size_t>(t.function_ids[i]);
+      const Vec3 x{cur[i].x(), cur[i].y(), cur[i].z()};
+      if (!seen[id]) {
+        seen[id] = 1, position[id] = x;
+        continue;
+      }
+      if (std::hypot(x[0] - position[id][0], x[1] - position[id][1], x[2] - position[id][2]) > tol)
+        throw core::NumericalError("tmesh h-refinement: blocks disagree at node " + std::to_string(id) + ": the T-mesh is not C0 there");
+    }
+  }
+  for (TMesh& t : fine)
+    for (const auto& con : t.constraints) {
+      Vec3 x{0, 0, 0};
+      for (std::size_t r = 0; r < con.ids.size(); ++r)
+        for (int d = 0; d < 3; ++d) x[static_cast<std::size_t>(d)] += con.weights[r] * position[static_cast<std::size_t>(con.ids[r])][static_cast<std::size_t>(d)];
+      const Vec3& y = position[static_cast<std::size_t>(t.function_ids[static_cast<std::size_t>(con.point)])];
+      if (std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]) > tol)
+        throw core::NumericalError("tmesh h-refinement: a T-junction of block level " + std::to_string(t.level) + " is off its row: the T-mesh is not C0 there");
+      position[static_cast<std::size_t>(t.function_ids[static_cast<std::size_t>(con.point)])] = x;
+    }
+  for (TMesh& t : fine)
+    for (std::size_t i = 0; i < t.control_points.size(); ++i) t.control_points[i] = position[static_cast<std::size_t>(t.function_ids[i])];
+  if (parent) {
+    // Fine element (blocks in order, i fastest) -> the coarse element holding its centre.
+    int first = 0;
+    for (std::size_t b = 0; b < fine.size(); ++b) {
+      std::array<std::vector<int>, 3> up;
+      std::array<int, 3> nc{};
+      for (int a = 0; a < 3; ++a) {
+        const auto ci = bezier::element_intervals(coarse[b].knots[static_cast<std::size_t>(a)], coarse[b].degree);
+        nc[static_cast<std::size_t>(a)] = static_cast<int>(ci.size());
+        for (const auto& iv : bezier::element_intervals(fine[b].knots[static_cast<std::size_t>(a)], fine[b].degree)) {
+          const double mid = 0.5 * (iv[0] + iv[1]);
+          int k = 0;
+          while (k + 1 < static_cast<int>(ci.size()) && mid > ci[static_cast<std::size_t>(k)][1]) ++k;
+          up[static_cast<std::size_t>(a)].push_back(k);
+        }
+      }
+      for (const int k : up[2])
+        for (const int j : up[1])
+          for (const int i : up[0]) parent->push_back(first + i + nc[0] * (j + nc[1] * k));
+      first += nc[0] * nc[1] * nc[2];
+    }
+  }
+  return fine;
 }
 
 const std::array<std::array<int, 3>, 8>& hex_corner_neighbours() {

@@ -79,6 +79,11 @@ struct Params {
   /// slabs, the boundary elements of §5.1 — each by its own deviation, the others only as 2:1
   /// asks) or "cube" (every block of a cube one level, its finest).
   std::string refine = "boundary";
+  /// h-refinement after optimization (h_refine()): every element split in eight this many times
+  /// by knot insertion — the same spline (geometry, Jacobian, validity) on 8^h_refine times the
+  /// elements and more functions, for analysis at a finer mesh; a block's level + h_refine <= 7
+  /// [0, 3].
+  int h_refine = 0;
 };
 
 using Vec3 = std::array<double, 3>;
@@ -177,6 +182,18 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
 /// (a finer point where a coarser block has one, left unconstrained), core::ConfigError for a
 /// level out of range or a count of levels that is not the number of cubes.
 std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const std::vector<int>& levels);
+
+/// h-refinement by knot insertion (Boehm; bezier::refinement_matrix): the spline of `coarse` —
+/// blocks as build() made them from `maps` and `params`, control points moved since — with every
+/// element split in eight `times` times. Knots, node ids and T-junction rows are build()'s at
+/// every block's level + times; control points are the refinement of `coarse`'s, so the map, its
+/// Jacobian and its validity are unchanged. `parent` (optional): per fine element (blocks in
+/// order, i fastest) the index of the coarse element that holds it. Throws core::ConfigError for
+/// `times` outside [0, 3] or a level above 7, core::InvalidInputError if `coarse` is not the
+/// block layout of `maps`, core::NumericalError if its blocks disagree on a shared node or a
+/// T-junction is off its row (not C0).
+std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, const std::vector<TMesh>& coarse, int times,
+                            std::vector<int>* parent = nullptr);
 
 /// Per cube (TMesh::component), the largest distance `distance` gives at the boundary faces of
 /// its blocks, sampled at every element's corners and edge and face midpoints; 0 for a cube

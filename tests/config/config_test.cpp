@@ -93,6 +93,9 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_EQ(file.tmesh.refine, tmesh::Params{}.refine);
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {refine: cube}\n", "t")), "emitted").tmesh.refine, "cube");
   EXPECT_NE(config_error("tmesh: {refine: all}\n").find("tmesh.refine"), std::string::npos);
+  EXPECT_EQ(file.tmesh.h_refine, tmesh::Params{}.h_refine);
+  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {h_refine: 2}\n", "t")), "emitted").tmesh.h_refine, 2);
+  EXPECT_NE(config_error("tmesh: {h_refine: 4}\n").find("tmesh.h_refine"), std::string::npos);
   EXPECT_EQ(file.tmesh.rim_pillow_lenses, tmesh::Params{}.rim_pillow_lenses);
   const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start, slide_sharp_curves: true, rim_pillow_lenses: false}\n", "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");
@@ -124,7 +127,7 @@ TEST(Config, EmittedYamlParsesBackToTheSameConfig) {
 
 TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("test.yaml: unknown key 'tmesh.levle'"), std::string::npos);
-  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, epsilon_rel, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, epsilon_rel, h_refine, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
   EXPECT_NE(config_error("clasify: {}\n").find("unknown key 'clasify'"), std::string::npos);
   EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
 }

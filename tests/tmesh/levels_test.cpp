@@ -19,86 +19,13 @@
 #include "tmesh/optimize.h"
 #include "tmesh/pillow.h"
 #include "tmesh/tmesh.h"
+#include "ring_cubes.h"
 
 using namespace volts;
 using tmesh::Vec3;
 
-namespace {
+using namespace volts::test;
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kInner = 2.0, kOuter = 3.0;  // radii of the ring's walls; height [0, 1]
-
-// Cube c of k covers the angles -[c, c + 1] 2π/k; parameters (a, b, h): a along the ring, b
-// radial, h height. The polycube embedding and the physical map are the same bent ring.
-Vec3 ring_point(int k, int c, const Vec3& abh) {
-  const double t = -2 * kPi * (c + abh[0]) / k, r = kInner + (kOuter - kInner) * abh[1];  // clockwise: (a, b, h) right-handed
-  return {r * std::cos(t), r * std::sin(t), abh[2]};
-}
-
-tmesh::PolycubeMaps ring(int k) {
-  tmesh::PolycubeMaps m;
-  m.boundary.assign(static_cast<std::size_t>(k), {0, 0, 1, 1, 1, 1});
-  m.physical = [k](int c, const Vec3& x) { return ring_point(k, c, x); };
-  m.polycube = [k](int c, const Vec3& x) { return ring_point(k, c, x); };
-  return m;
-}
-
-// Distance to the ring's surface (two cylinders and two planes) of a point inside it.
-double ring_distance(const Vec3& x) {
-  const double r = std::hypot(x[0], x[1]);
-  return std::min({std::abs(r - kInner), std::abs(r - kOuter), std::abs(x[2]), std::abs(x[2] - 1)});
-}
-
-bezier::TensorBSplineVolume volume(const tmesh::TMesh& t) {
-  bezier::TensorBSplineVolume v;
-  v.degree = {t.degree, t.degree, t.degree};
-  v.knots = t.knots;
-  for (const auto& p : t.control_points) v.points.emplace_back(p[0], p[1], p[2]);
-  return v;
-}
-
-// Block parameters of cube parameters x (Newton on the trilinear block map); false if x is not in the block.
-bool block_params(const std::array<Vec3, 8>& corners, const Vec3& x, Vec3* uvw) {
-  Eigen::Vector3d u(0.5, 0.5, 0.5);
-  for (int it = 0; it < 50; ++it) {
-    const Vec3 y = tmesh::block_point(corners, {u[0], u[1], u[2]});
-    const Eigen::Vector3d r(y[0] - x[0], y[1] - x[1], y[2] - x[2]);
-    if (r.norm() < 1e-15) break;
-    Eigen::Matrix3d J;
-    for (int d = 0; d < 3; ++d) {
-      Eigen::Vector3d v = u;
-      v[d] += 1e-7;
-      const Vec3 z = tmesh::block_point(corners, {v[0], v[1], v[2]});
-      J.col(d) = Eigen::Vector3d(z[0] - y[0], z[1] - y[1], z[2] - y[2]) / 1e-7;
-    }
-    u -= J.fullPivLu().solve(r);
-  }
-  for (int d = 0; d < 3; ++d)
-    if (u[d] < -1e-10 || u[d] > 1 + 1e-10) return false;
-  *uvw = {std::clamp(u[0], 0.0, 1.0), std::clamp(u[1], 0.0, 1.0), std::clamp(u[2], 0.0, 1.0)};
-  return true;
-}
-
-// The spline of cube `cube` at cube parameters x (the first of its blocks that contains x).
-Eigen::Vector3d spline_at(const std::vector<tmesh::TMesh>& ts, int cube, const Vec3& x) {
-  for (const auto& t : ts) {
-    Vec3 uvw;
-    if (t.component == cube && block_params(t.corners, x, &uvw)) return bezier::evaluate(volume(t), Eigen::Vector3d(uvw[0], uvw[1], uvw[2]));
-  }
-  ADD_FAILURE() << "no block of cube " << cube << " holds " << x[0] << "," << x[1] << "," << x[2];
-  return Eigen::Vector3d::Zero();
-}
-
-std::vector<bezier::BezierHex> hexes(const std::vector<tmesh::TMesh>& ts) {
-  std::vector<bezier::BezierHex> h;
-  for (const auto& t : ts) {
-    const auto e = bezier::extract_bezier_hexes(volume(t));
-    h.insert(h.end(), e.begin(), e.end());
-  }
-  return h;
-}
-
-}  // namespace
 
 // Cubes of levels 3 and 4 in turn (and 3, 4, 5 with an odd count): across every face between
 // cubes both splines are one surface, the global basis is a partition of unity whose extraction
