@@ -97,6 +97,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     op.trilinear_sweeps = ctx.config.tmesh.trilinear_sweeps;
     op.trilinear_guard = ctx.config.tmesh.trilinear_guard;
     op.joint_evaluations = ctx.config.tmesh.joint_evaluations;
+    op.grid_points = ctx.config.tmesh.grid_points;
     op.joint_sharpness = ctx.config.tmesh.joint_sharpness;
     op.joint_window = ctx.config.tmesh.joint_window;
     op.slide_from_start = ctx.config.tmesh.slide_from == "start";

@@ -63,53 +63,103 @@ Eigen::Vector3d evaluate(const BezierHex& hex, const Eigen::Vector3d& uvw, Eigen
 
 namespace {
 
-// Bernstein values and derivatives at 0, 1 and the Gauss points, per direction.
+// Bernstein values and derivatives at the grid's coordinates, then the Gauss points, per direction.
 struct SampleBases {
-  int gauss_points = 0;
+  int gauss_points = 0, grid_points = 0;
   std::array<int, 3> degree{};
   std::array<AxisBases, 3> axes;
 };
 
+std::vector<double> uniform_points(int n) {
+  if (n < 2) throw core::InvalidInputError("Jacobian samples: at least 2 grid points per direction (the corners), got " + std::to_string(n));
+  std::vector<double> t;
+  for (int i = 0; i < n; ++i) t.push_back(i / (n - 1.0));
+  return t;
+}
+
 }  // namespace
 
-std::vector<Eigen::Matrix3d> jacobian_samples(const BezierHex& hex, int gauss_points) {
+std::vector<Eigen::Matrix3d> jacobian_samples(const BezierHex& hex, int gauss_points, int grid_points) {
   check(hex);
   std::vector<Eigen::Matrix3d> out;
-  const std::size_t n = static_cast<std::size_t>(std::max(gauss_points, 0));
-  out.reserve(8 + n * n * n);
+  const std::size_t n = static_cast<std::size_t>(std::max(gauss_points, 0)), m = static_cast<std::size_t>(std::max(grid_points, 0));
+  out.reserve(m * m * m + n * n * n);
   if (hex.is_rational()) {
-    const std::vector<double> g = gauss_legendre_points(gauss_points);
+    const std::vector<double> g = gauss_legendre_points(gauss_points), t = uniform_points(grid_points);
     auto add = [&](const Eigen::Vector3d& uvw) {
       Eigen::Matrix3d J;
       evaluate(hex, uvw, &J);
       out.push_back(J);
     };
-    for (int c = 0; c < 8; ++c) add(Eigen::Vector3d(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+    for (double w : t)
+      for (double v : t)
+        for (double u : t) add(Eigen::Vector3d(u, v, w));
     for (double w : g)
       for (double v : g)
         for (double u : g) add(Eigen::Vector3d(u, v, w));
     return out;
   }
-  // Coordinates per direction: 0, 1, then the Gauss points; bases computed once per thread and
-  // degrees (tmesh optimization calls this for every element a node supports).
+  // Coordinates per direction: the grid's (0, 1 for the corners), then the Gauss points; bases
+  // computed once per thread and degrees (tmesh optimization calls this for every element a node
+  // supports).
   thread_local SampleBases cache;
-  if (cache.gauss_points != gauss_points || cache.degree != hex.degree) {
+  if (cache.gauss_points != gauss_points || cache.grid_points != grid_points || cache.degree != hex.degree) {
     std::vector<double> g = gauss_legendre_points(gauss_points);  // throws for n < 1
-    g.insert(g.begin(), {0.0, 1.0});
-    cache = SampleBases{gauss_points, hex.degree, {}};
+    const std::vector<double> t = uniform_points(grid_points);
+    g.insert(g.begin(), t.begin(), t.end());
+    cache = SampleBases{gauss_points, grid_points, hex.degree, {}};
     for (int d = 0; d < 3; ++d)
-      for (const double t : g) {
+      for (const double x : g) {
         Eigen::VectorXd db;
-        cache.axes[d].B.push_back(bernstein_basis(hex.degree[d], t, &db));
+        cache.axes[d].B.push_back(bernstein_basis(hex.degree[d], x, &db));
         cache.axes[d].dB.push_back(db);
       }
   }
-  // The corners (coordinates 0 and 1), then the Gauss grid, each by sum factorization (the
-  // per-point sums of the tmesh optimizer's inner loop, a fifth of the operations for cubics).
+  // The grid, then the Gauss points, each by sum factorization (the per-point sums of the tmesh
+  // optimizer's inner loop, a fifth of the operations for cubics).
   thread_local std::vector<std::array<Eigen::Vector3d, 3>> columns;
   columns.clear();
-  grid_derivatives(hex.degree, hex.points.data(), cache.axes, 0, 2, columns);
-  grid_derivatives(hex.degree, hex.points.data(), cache.axes, 2, cache.axes[0].B.size(), columns);
+  grid_derivatives(hex.degree, hex.points.data(), cache.axes, 0, m, columns);
+  grid_derivatives(hex.degree, hex.points.data(), cache.axes, m, cache.axes[0].B.size(), columns);
+  for (const auto& [xu, xv, xw] : columns) {
+    Eigen::Matrix3d J;
+    J << xu, xv, xw;
+    out.push_back(J);
+  }
+  return out;
+}
+
+std::vector<Eigen::Matrix3d> jacobian_grid(const BezierHex& hex, int n) {
+  check(hex);
+  const std::vector<double> t = uniform_points(n);
+  std::vector<Eigen::Matrix3d> out;
+  out.reserve(static_cast<std::size_t>(n * n * n));
+  if (hex.is_rational()) {
+    for (const double w : t)
+      for (const double v : t)
+        for (const double u : t) {
+          Eigen::Matrix3d J;
+          evaluate(hex, Eigen::Vector3d(u, v, w), &J);
+          out.push_back(J);
+        }
+    return out;
+  }
+  thread_local std::pair<std::array<int, 4>, std::array<AxisBases, 3>> cache{{-1, -1, -1, -1}, {}};
+  const std::array<int, 4> key{n, hex.degree[0], hex.degree[1], hex.degree[2]};
+  if (cache.first != key) {
+    cache.first = key;
+    for (int d = 0; d < 3; ++d) {
+      cache.second[static_cast<std::size_t>(d)] = {};
+      for (const double x : t) {
+        Eigen::VectorXd db;
+        cache.second[static_cast<std::size_t>(d)].B.push_back(bernstein_basis(hex.degree[d], x, &db));
+        cache.second[static_cast<std::size_t>(d)].dB.push_back(db);
+      }
+    }
+  }
+  thread_local std::vector<std::array<Eigen::Vector3d, 3>> columns;
+  columns.clear();
+  grid_derivatives(hex.degree, hex.points.data(), cache.second, 0, t.size(), columns);
   for (const auto& [xu, xv, xw] : columns) {
     Eigen::Matrix3d J;
     J << xu, xv, xw;
@@ -130,7 +180,9 @@ JacobianSample summarize_jacobians(const std::vector<Eigen::Matrix3d>& J) {
   return s;
 }
 
-JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points) { return summarize_jacobians(jacobian_samples(hex, gauss_points)); }
+JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points, int grid_points) {
+  return summarize_jacobians(jacobian_samples(hex, gauss_points, grid_points));
+}
 
 double volume(const BezierHex& hex, int gauss_points) {
   check(hex);

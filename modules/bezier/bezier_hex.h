@@ -59,12 +59,22 @@ struct JacobianSample {
 /// Jacobian at the 8 corners and at the n^3 Gauss–Legendre points (n = gauss_points per
 /// direction, e.g. max degree + 1). A sample, not a certificate: det J may be negative elsewhere
 /// (certification needs the Bernstein coefficients of det J). Throws InvalidInputError if n < 1.
-JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points);
+/// grid_points > 2: the uniform grid of that many points per direction (faces, edges and corners;
+/// coordinates k / (grid_points - 1)) instead of the corners alone. Throws InvalidInputError if
+/// grid_points < 2.
+JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points, int grid_points = 2);
 
 /// The Jacobian matrices sample_jacobian() looks at, in its order: the 8 corners, then the n^3
 /// Gauss–Legendre points (u fastest). J is linear in the control points of a polynomial hex, so
 /// callers moving one point can update these instead of re-evaluating (tmesh optimization).
-std::vector<Eigen::Matrix3d> jacobian_samples(const BezierHex& hex, int gauss_points);
+/// With grid_points > 2 the first grid_points^3 samples are sample_jacobian()'s uniform grid.
+std::vector<Eigen::Matrix3d> jacobian_samples(const BezierHex& hex, int gauss_points, int grid_points = 2);
+
+/// The Jacobian on the uniform grid of n points per direction, the element's faces, edges and
+/// corners included (coordinates k / (n - 1), u fastest): where sample_jacobian()'s interior Gauss
+/// points and corners do not look (an optimizer that raises those samples can leave the field
+/// low between them). Throws InvalidInputError if n < 2.
+std::vector<Eigen::Matrix3d> jacobian_grid(const BezierHex& hex, int n);
 
 /// min/max scaled Jacobian and det J over matrices (what sample_jacobian() reports for them).
 JacobianSample summarize_jacobians(const std::vector<Eigen::Matrix3d>& J);

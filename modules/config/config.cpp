@@ -229,6 +229,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("trilinear_sweeps", c.tmesh.trilinear_sweeps, 0, 100);
     s.get("trilinear_guard", c.tmesh.trilinear_guard);
     s.get("joint_evaluations", c.tmesh.joint_evaluations, 1, 100000);
+    s.get("grid_points", c.tmesh.grid_points, 2, 8);
     s.get("joint_sharpness", c.tmesh.joint_sharpness, 1e-3, 1000.0);
     s.get("joint_window", c.tmesh.joint_window, 0.0, 1.0);
     s.get("slide_surface", c.tmesh.slide_surface);
@@ -246,6 +247,8 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     Section s = top.section("extract");
     s.get("gauss_points", c.extract.gauss_points, 0, 10);
     s.get("boundary_samples", c.extract.boundary_samples, 2, 64);
+    s.get("dense_points", c.extract.dense_points, 0, 16);
+    if (c.extract.dense_points == 1) throw core::ConfigError(source + ": extract.dense_points: must be 0 or in [2, 16], got 1");
     s.get("certify_max_depth", c.extract.certify.max_depth, 0, 20);
     s.get("exports", c.extract.exports, extract::export_names());
     s.finish();
@@ -414,6 +417,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "trilinear_sweeps" << YAML::Value << c.tmesh.trilinear_sweeps;
   e << YAML::Key << "trilinear_guard" << YAML::Value << c.tmesh.trilinear_guard;
   e << YAML::Key << "joint_evaluations" << YAML::Value << c.tmesh.joint_evaluations;
+  e << YAML::Key << "grid_points" << YAML::Value << c.tmesh.grid_points;
   e << YAML::Key << "joint_sharpness" << YAML::Value << c.tmesh.joint_sharpness;
   e << YAML::Key << "joint_window" << YAML::Value << c.tmesh.joint_window;
   e << YAML::Key << "slide_surface" << YAML::Value << c.tmesh.slide_surface;
@@ -428,6 +432,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;
+  e << YAML::Key << "dense_points" << YAML::Value << c.extract.dense_points;
   e << YAML::Key << "certify_max_depth" << YAML::Value << c.extract.certify.max_depth;
   e << YAML::Key << "exports" << YAML::Value << YAML::Flow << c.extract.exports << YAML::EndMap;
   const auto& t = c.tet2hex;

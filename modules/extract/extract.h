@@ -35,6 +35,9 @@ inline const std::vector<std::string>& export_names() {
 struct Params {
   int gauss_points = 0;       ///< Gauss points per direction for the Jacobian sample; 0 = degree + 1
   int boundary_samples = 8;   ///< samples per direction on each boundary element face (Hausdorff) [2, 64]
+  /// Points per direction of the uniform grid (faces, edges, corners included) of the second,
+  /// denser scaled-Jacobian sample (quality::scaled_jacobian_on_grid); 0 = none [0 or 2, 16]
+  int dense_points = 7;
   bezier::CertifyParams certify;  ///< certification of det J > 0 per element (max_depth: subdivision levels)
   std::vector<std::string> exports = export_names();  ///< files volts-extract writes (names of export_names())
 };
@@ -60,6 +63,7 @@ struct Result {
   GlobalBasis basis;
   std::vector<double> min_scaled_jacobian;  ///< per element, sampled
   std::vector<double> max_scaled_jacobian;  ///< per element, sampled
+  std::vector<double> min_scaled_jacobian_dense;  ///< per element, on the uniform grid (Params::dense_points; empty if 0)
   std::vector<double> boundary_distance;    ///< per element: max sampled distance of its boundary faces to the surface (0 inside)
   std::vector<int> status;                  ///< per element: bezier::Validity (1 valid, -1 invalid, 0 undecided)
   std::vector<double> certified_min_detj;   ///< per element: certified lower bound of min det J (bezier::certify)
@@ -67,6 +71,7 @@ struct Result {
   double certified_min_detj_rel = 0;  ///< min over elements of (lower bound of min det J) / (element's mean det J)
   int degree = 3;
   double min_scaled = 0, max_scaled = 0;
+  double min_scaled_dense = 0;  ///< min of min_scaled_jacobian_dense (0 without it)
   /// Fraction of the volume (det J-weighted Gauss points) whose scaled Jacobian is > 0.5
   double volume_frac_scaled_jacobian_above_0_5 = 0;
   double hausdorff_rel = 0;     ///< max distance spline boundary -> input surface / bbox diagonal (sampled)

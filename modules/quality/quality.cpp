@@ -33,6 +33,19 @@ ScaledJacobian scaled_jacobian(const std::vector<bezier::BezierHex>& hexes, int 
   return r;
 }
 
+ScaledJacobian scaled_jacobian_on_grid(const std::vector<bezier::BezierHex>& hexes, int points) {
+  if (points < 2) throw core::InvalidInputError("scaled_jacobian_on_grid: at least 2 points per direction, got " + std::to_string(points));
+  ScaledJacobian r;
+  r.min_per_element.resize(hexes.size());
+  r.max_per_element.resize(hexes.size());
+  core::parallel_for(hexes.size(), [&](std::size_t e) {
+    const bezier::JacobianSample js = bezier::summarize_jacobians(bezier::jacobian_grid(hexes[e], points));
+    r.min_per_element[e] = js.min_scaled, r.max_per_element[e] = js.max_scaled;
+  });
+  for (std::size_t e = 0; e < hexes.size(); ++e) r.min = std::min(r.min, r.min_per_element[e]), r.max = std::max(r.max, r.max_per_element[e]);
+  return r;
+}
+
 double volume_fraction_scaled_jacobian_above(const std::vector<bezier::BezierHex>& hexes, int gauss_points, double threshold) {
   const std::vector<double> g = bezier::gauss_legendre_points(gauss_points), w = bezier::gauss_legendre_weights(gauss_points);
   // Volume of every point (negative: its scaled Jacobian is not above the threshold), in

@@ -22,6 +22,12 @@ struct ScaledJacobian {
 /// (bezier::sample_jacobian). A sample, not a certificate.
 ScaledJacobian scaled_jacobian(const std::vector<bezier::BezierHex>& hexes, int gauss_points);
 
+/// Scaled Jacobian of every hex on the uniform grid of `points` per direction, faces, edges and
+/// corners included (bezier::jacobian_grid): a denser sample than scaled_jacobian()'s, which sees
+/// the field between its Gauss points and corners (still a sample, not a bound). Throws
+/// core::InvalidInputError for points < 2.
+ScaledJacobian scaled_jacobian_on_grid(const std::vector<bezier::BezierHex>& hexes, int points);
+
 /// Fraction of the elements' volume where the scaled Jacobian exceeds `threshold`: Gauss–Legendre
 /// quadrature of det J with gauss_points^3 points per element, each point counting when its scaled
 /// Jacobian is above the threshold (Lin et al. 2018 quote "> 0.5 in over 80% region"). Sampled:

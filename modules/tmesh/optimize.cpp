@@ -281,9 +281,9 @@ class Spline {
 // coordinate), so the rows are bit-identical at a third of the cost.
 class XRowSamples {
  public:
-  XRowSamples(int degree, int gauss_points) : degree_{degree, degree, degree} {
+  XRowSamples(int degree, int gauss_points, int grid_points) : degree_{degree, degree, degree}, grid_(static_cast<std::size_t>(grid_points)) {
     std::vector<double> t = bezier::gauss_legendre_points(gauss_points);
-    t.insert(t.begin(), {0.0, 1.0});
+    for (int i = grid_points - 1; i >= 0; --i) t.insert(t.begin(), i / (grid_points - 1.0));
     for (auto& axis : axes_)
       for (const double x : t) {
         Eigen::VectorXd db;
@@ -295,15 +295,16 @@ class XRowSamples {
   void operator()(const std::vector<double>& x, std::vector<Eigen::RowVector3d>& out) const {
     thread_local std::vector<std::array<double, 3>> rows;
     rows.clear();
-    bezier::grid_derivatives(degree_, x.data(), axes_, 0, 2, rows);  // the corners
-    bezier::grid_derivatives(degree_, x.data(), axes_, 2, axes_[0].B.size(), rows);  // the Gauss points
+    bezier::grid_derivatives(degree_, x.data(), axes_, 0, grid_, rows);  // the grid (the corners)
+    bezier::grid_derivatives(degree_, x.data(), axes_, grid_, axes_[0].B.size(), rows);  // the Gauss points
     out.clear();
     for (const auto& [xu, xv, xw] : rows) out.emplace_back(xu, xv, xw);
   }
 
  private:
   std::array<int, 3> degree_;
-  std::array<bezier::AxisBases, 3> axes_;  // at 0, 1, then the Gauss points
+  std::size_t grid_;
+  std::array<bezier::AxisBases, 3> axes_;  // at the grid's coordinates, then the Gauss points
 };
 
 // The sampled Jacobians of a node's elements as affine functions of its displacement d,
@@ -472,7 +473,7 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
           if (refused) return;
           const std::size_t x = static_cast<std::size_t>(els[k]);
           const bezier::BezierHex hx = s.hex(x);
-          js[k] = bezier::jacobian_samples(hx, params.gauss_points);
+          js[k] = bezier::jacobian_samples(hx, params.gauss_points, params.grid_points);
           now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
           now[k].valid = bezier::certify(hx, cp).status == bezier::Validity::valid;
           if (now[k].scaled < floor || !now[k].valid) refused = true;
@@ -524,16 +525,17 @@ GridAxis grid_axis(int degree, const std::vector<double>& t) {
   return g;
 }
 
-// The joint phase's sample grids: the 8 corners and the n^3 Gauss points (what the sampled
+// The joint phase's sample grids: the uniform grid (the 8 corners at grid_points 2) and the n^3 Gauss points (what the sampled
 // figure looks at) or, for elements not certified valid (a fold can hide between those), a
 // uniform grid of `dense` points per direction, element boundary included.
-std::vector<GridAxis> joint_grids(int degree, int gauss_points, int dense) {
-  if (dense > 1) {
+std::vector<GridAxis> joint_grids(int degree, int gauss_points, int grid_points, int dense) {
+  auto uniform = [](int n) {
     std::vector<double> t;
-    for (int i = 0; i < dense; ++i) t.push_back(i / (dense - 1.0));
-    return {grid_axis(degree, t)};
-  }
-  return {grid_axis(degree, {0.0, 1.0}), grid_axis(degree, bezier::gauss_legendre_points(gauss_points))};
+    for (int i = 0; i < n; ++i) t.push_back(i / (n - 1.0));
+    return t;
+  };
+  if (dense > 1) return {grid_axis(degree, uniform(dense))};
+  return {grid_axis(degree, uniform(grid_points)), grid_axis(degree, bezier::gauss_legendre_points(gauss_points))};
 }
 
 // Jacobians of a polynomial hex (points Q[a + n(b + nc)]) at the grid points t_i × t_j × t_k
@@ -829,7 +831,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       const std::size_t e = static_cast<std::size_t>(els[k]);
       const std::pair<int, bool> key{s.degree_of(e), !q[e].valid};
       auto it = grids.find(key);
-      if (it == grids.end()) it = grids.emplace(key, joint_grids(key.first, params.gauss_points, key.second ? params.joint_dense_points : 0)).first;
+      if (it == grids.end()) it = grids.emplace(key, joint_grids(key.first, params.gauss_points, params.grid_points, key.second ? params.joint_dense_points : 0)).first;
       grids_of[k] = &it->second;
     }
     // A narrowed round's elements lie within `window` of each other: at the configured sharpness
@@ -976,7 +978,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         pool.for_each(todo.size(), [&](std::size_t i) {
           const std::size_t k = todo[i], e = static_cast<std::size_t>(els[k]);
           const bezier::BezierHex h = s.hex(e);
-          t.js[k] = bezier::jacobian_samples(h, params.gauss_points);
+          t.js[k] = bezier::jacobian_samples(h, params.gauss_points, params.grid_points);
           t.now[k].scaled = bezier::summarize_jacobians(t.js[k]).min_scaled;
           t.now[k].valid = bezier::certify(h, cp).status == bezier::Validity::valid;
           t.now[k].trilinear = corner_hex_scaled_jacobian(h);
@@ -1111,7 +1113,7 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           std::vector<std::array<double, 2>> v(set.size(), {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
           pool.for_each(set.size(), [&](std::size_t i) {
             const bezier::BezierHex hx = s.hex(static_cast<std::size_t>(set[i]));
-            v[i][0] = bezier::sample_jacobian(hx, params.gauss_points).min_scaled;
+            v[i][0] = bezier::sample_jacobian(hx, params.gauss_points, params.grid_points).min_scaled;
             if (!q[static_cast<std::size_t>(set[i])].valid) {
               const bezier::CertifyResult c = bezier::certify(hx, cp);
               if (c.mean_detj > 0) v[i][1] = c.min_detj_lower / c.mean_detj;
@@ -1190,7 +1192,7 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           const std::size_t k = order[i];
           const std::size_t x = static_cast<std::size_t>(els[k]);
           const bezier::BezierHex hex = s.hex(x);
-          js[k] = bezier::jacobian_samples(hex, params.gauss_points);
+          js[k] = bezier::jacobian_samples(hex, params.gauss_points, params.grid_points);
           now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
           now[k].trilinear = corner_hex_scaled_jacobian(hex);
           if (trilinear_falls(params, q[x], now[k])) {
@@ -1260,8 +1262,8 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
 
 OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
   if (params.sweeps < 0 || params.sweeps > 100) throw core::ConfigError("tmesh.optimize_sweeps must be in [0, 100], got " + std::to_string(params.sweeps));
-  if (params.gauss_points < 1 || params.gauss_points > 10 || params.max_evaluations < 1)
-    throw core::ConfigError("tmesh optimization: gauss_points must be in [1, 10] and max_evaluations >= 1");
+  if (params.gauss_points < 1 || params.gauss_points > 10 || params.max_evaluations < 1 || params.grid_points < 2 || params.grid_points > 8)
+    throw core::ConfigError("tmesh optimization: gauss_points must be in [1, 10], grid_points in [2, 8] and max_evaluations >= 1");
   if (!(params.min_gain >= 0 && params.min_gain <= 1) || !(params.min_fixed_rel >= 0 && params.min_fixed_rel <= 1) ||
       params.patience < 1 || params.patience > 100)
     throw core::ConfigError("tmesh optimization: min_gain and min_fixed_rel must be in [0, 1] and patience in [1, 100]");
@@ -1284,13 +1286,13 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   std::vector<Quality> q(s.size());
   std::vector<std::vector<Eigen::Matrix3d>> samples(s.size());
   std::vector<XRowSamples> x_rows;  // per block (its degree)
-  for (const TMesh& t : blocks) x_rows.emplace_back(t.degree, params.gauss_points);
+  for (const TMesh& t : blocks) x_rows.emplace_back(t.degree, params.gauss_points, params.grid_points);
   // Threads started once: the per-node batches below (~64 elements) are too small to start
   // threads for each. Every item writes its own slot, so results do not depend on the count.
   core::ThreadPool pool;
   pool.for_each(s.size(), [&](std::size_t e) {
     const bezier::BezierHex h = s.hex(e);
-    samples[e] = bezier::jacobian_samples(h, params.gauss_points);
+    samples[e] = bezier::jacobian_samples(h, params.gauss_points, params.grid_points);
     q[e] = Quality{bezier::summarize_jacobians(samples[e]).min_scaled, bezier::certify(h, cp).status == bezier::Validity::valid,
                    corner_hex_scaled_jacobian(h)};
   });

@@ -40,6 +40,11 @@ struct OptimizeParams {
   double target = 0.5;        ///< elements whose sampled scaled Jacobian is below this are improved
   double margin = 0.25;       ///< a node's search looks at its elements below target + margin (the move is checked on all)
   int gauss_points = 4;       ///< Gauss points per direction of the sample (plus the 8 corners); extract's figure uses degree + 1
+  /// The sample's other points: a uniform grid of this many per direction, faces, edges and
+  /// corners included (bezier::sample_jacobian); 2 = the corners alone, the paper's sample, which
+  /// leaves the field free to sag between them (the generated torus: 0.507 sampled, 0.184 on a
+  /// 16^3 grid) [2, 8].
+  int grid_points = 2;
   int max_evaluations = 25;   ///< objective evaluations per node move
   /// Node optimizations per sweep, worst elements first: bounds the time on a poor map (a count,
   /// not seconds, so runs stay reproducible). The demo torus needs about 450 in its first sweep.

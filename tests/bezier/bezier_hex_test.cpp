@@ -231,3 +231,45 @@ TEST(BezierHex, JacobianSamplesAreTheJacobiansAtCornersAndGaussPoints) {
     }
   }
 }
+
+// With a uniform grid instead of the corners (grid_points > 2), and jacobian_grid: the Jacobians
+// of evaluate() at k / (n - 1) (u fastest), then the Gauss points; polynomial and rational hexes.
+TEST(BezierHex, GridSamplesAreTheJacobiansOnTheUniformGrid) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-0.1, 0.1), weight(0.5, 2.0);
+  for (const bool rational : {false, true})
+    for (const std::array<int, 3> degree : {std::array<int, 3>{3, 3, 3}, std::array<int, 3>{2, 3, 1}}) {
+      BezierHex h = hex_from_multilinear(degree, [](const Vector3d& u) { return Vector3d(u[0] + 0.2 * u[1] * u[2], u[1], u[2] + 0.1 * u[0]); });
+      for (auto& p : h.points) p += Vector3d(jitter(rng), jitter(rng), jitter(rng));
+      if (rational)
+        for (int i = 0; i < h.num_points(); ++i) h.weights.push_back(weight(rng));
+      for (const int m : {2, 3, 5}) {
+        std::vector<Vector3d> at;
+        for (int k = 0; k < m; ++k)
+          for (int j = 0; j < m; ++j)
+            for (int i = 0; i < m; ++i) at.emplace_back(i / (m - 1.0), j / (m - 1.0), k / (m - 1.0));
+        const std::vector<Matrix3d> grid = jacobian_grid(h, m);
+        const std::size_t n_grid = at.size();
+        const std::vector<double> g = gauss_legendre_points(3);
+        for (const double w : g)
+          for (const double v : g)
+            for (const double u : g) at.emplace_back(u, v, w);
+        const std::vector<Matrix3d> js = jacobian_samples(h, 3, m);
+        ASSERT_EQ(js.size(), at.size());
+        ASSERT_EQ(grid.size(), n_grid);
+        double worst = 1;
+        for (std::size_t s = 0; s < at.size(); ++s) {
+          Matrix3d J;
+          evaluate(h, at[s], &J);
+          EXPECT_LT((js[s] - J).norm(), 1e-13 * J.norm()) << "rational " << rational << ", grid " << m << ", sample " << s;
+          if (s < n_grid) {
+            EXPECT_LT((grid[s] - J).norm(), 1e-13 * J.norm());
+          }
+          worst = std::min(worst, scaled_jacobian(J));
+        }
+        EXPECT_NEAR(sample_jacobian(h, 3, m).min_scaled, worst, 1e-12);
+      }
+      EXPECT_THROW(jacobian_grid(h, 1), core::InvalidInputError);
+      EXPECT_THROW(jacobian_samples(h, 3, 1), core::InvalidInputError);
+    }
+}

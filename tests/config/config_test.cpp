@@ -94,6 +94,13 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {refine: cube}\n", "t")), "emitted").tmesh.refine, "cube");
   EXPECT_NE(config_error("tmesh: {refine: all}\n").find("tmesh.refine"), std::string::npos);
   EXPECT_EQ(file.tmesh.h_refine, tmesh::Params{}.h_refine);
+  EXPECT_EQ(file.extract.dense_points, extract::Params{}.dense_points);
+  EXPECT_EQ(file.tmesh.grid_points, tmesh::OptimizeParams{}.grid_points);
+  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {grid_points: 5}\n", "t")), "emitted").tmesh.grid_points, 5);
+  EXPECT_NE(config_error("tmesh: {grid_points: 1}\n").find("tmesh.grid_points"), std::string::npos);
+  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("extract: {dense_points: 0}\n", "t")), "emitted").extract.dense_points, 0);
+  EXPECT_NE(config_error("extract: {dense_points: 1}\n").find("extract.dense_points"), std::string::npos);
+  EXPECT_NE(config_error("extract: {dense_points: 17}\n").find("extract.dense_points"), std::string::npos);
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {h_refine: 2}\n", "t")), "emitted").tmesh.h_refine, 2);
   EXPECT_NE(config_error("tmesh: {h_refine: 4}\n").find("tmesh.h_refine"), std::string::npos);
   EXPECT_EQ(file.tmesh.rim_pillow_lenses, tmesh::Params{}.rim_pillow_lenses);
@@ -127,7 +134,7 @@ TEST(Config, EmittedYamlParsesBackToTheSameConfig) {
 
 TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("test.yaml: unknown key 'tmesh.levle'"), std::string::npos);
-  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, epsilon_rel, h_refine, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, epsilon_rel, grid_points, h_refine, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
   EXPECT_NE(config_error("clasify: {}\n").find("unknown key 'clasify'"), std::string::npos);
   EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
 }

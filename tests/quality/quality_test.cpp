@@ -125,6 +125,29 @@ TEST(Quality, BoxHexHasScaledJacobianOneEverywhere) {
   EXPECT_NEAR(sj.max, 1.0, 1e-12);
 }
 
+// The uniform grid sees the field on faces: a box hex whose face-centre control point slides
+// along the face tilts the derivative across the face most at its centre, which the corners do
+// not see (their derivatives do not involve that point) and the interior Gauss points see less
+// of; nested grids (2 = the corners, 3, 5) can only find lower minima; an affine hex has its one
+// value everywhere.
+TEST(Quality, ScaledJacobianOnAGridSeesBetweenTheSamples) {
+  bezier::BezierHex h = box_hex(kLo, kHi);
+  h.points[static_cast<std::size_t>(h.index(1, 1, 0))] += Eigen::Vector3d(0.8, 0.0, 0.0);
+  const std::vector<bezier::BezierHex> hexes{box_hex(kLo, kHi), h};
+  const ScaledJacobian sampled = scaled_jacobian(hexes, 3);
+  const ScaledJacobian g2 = scaled_jacobian_on_grid(hexes, 2), g3 = scaled_jacobian_on_grid(hexes, 3), g5 = scaled_jacobian_on_grid(hexes, 5);
+  ASSERT_EQ(g3.min_per_element.size(), 2u);
+  EXPECT_NEAR(g5.min_per_element[0], 1.0, 1e-12);
+  EXPECT_LT(g3.min_per_element[1], sampled.min_per_element[1] - 0.05) << "the grid misses the dip at the pulled edge";
+  EXPECT_LE(g3.min, g2.min);
+  EXPECT_LE(g5.min, g3.min);
+  EXPECT_EQ(g3.min, g3.min_per_element[1]);
+  const auto affine = scaled_jacobian_on_grid({affine_hex(sheared(0.7), Eigen::Vector3d(1, 2, 3))}, 6);
+  EXPECT_NEAR(affine.min, std::sin(0.7), 1e-12);
+  EXPECT_NEAR(affine.max, std::sin(0.7), 1e-12);
+  EXPECT_THROW(scaled_jacobian_on_grid(hexes, 1), core::InvalidInputError);
+}
+
 TEST(Quality, BoxHexDoesNotDeviateFromTheSurfaceThroughItsBoundary) {
   const surface::Mesh s = box_surface();
   const auto dev = boundary_deviation({box_hex(kLo, kHi)}, all_faces(0), s, 8);
