@@ -51,7 +51,7 @@ struct Params {
   /// Points per direction of the uniform grid (faces, edges, corners) the optimizer samples the
   /// scaled Jacobian at besides its Gauss points (OptimizeParams::grid_points); 2 = the corners
   /// alone (the paper's sample) [2, 8].
-  int grid_points = 2;
+  int grid_points = 5;
   double joint_sharpness = 40;
   double joint_window = 0.1;
   /// The joint rounds slide surface nodes along the input surface where no sharp edge is within

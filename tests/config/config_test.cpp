@@ -95,8 +95,9 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_NE(config_error("tmesh: {refine: all}\n").find("tmesh.refine"), std::string::npos);
   EXPECT_EQ(file.tmesh.h_refine, tmesh::Params{}.h_refine);
   EXPECT_EQ(file.extract.dense_points, extract::Params{}.dense_points);
-  EXPECT_EQ(file.tmesh.grid_points, tmesh::OptimizeParams{}.grid_points);
-  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {grid_points: 5}\n", "t")), "emitted").tmesh.grid_points, 5);
+  EXPECT_EQ(file.tmesh.grid_points, tmesh::Params{}.grid_points);
+  EXPECT_EQ(tmesh::Params{}.grid_points, tmesh::OptimizeParams{}.grid_points);
+  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {grid_points: 3}\n", "t")), "emitted").tmesh.grid_points, 3);
   EXPECT_NE(config_error("tmesh: {grid_points: 1}\n").find("tmesh.grid_points"), std::string::npos);
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("extract: {dense_points: 0}\n", "t")), "emitted").extract.dense_points, 0);
   EXPECT_NE(config_error("extract: {dense_points: 1}\n").find("extract.dense_points"), std::string::npos);

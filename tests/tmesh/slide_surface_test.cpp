@@ -129,6 +129,7 @@ TEST(SlideSurface, JointRoundsSlideSurfaceNodesInTheirFacesAndKeepSharpOnes) {
       op.slide_from_start = from_start;
       op.slide_sharp_curves = curves;
       op.gauss_points = 2;
+      op.grid_points = 2;  // the figures below were measured on the paper's sample (corners + Gauss)
       op.target = 0.99;  // out of reach: every round runs to its own stopping rule
       op.sweeps = 1;
       op.max_nodes_per_sweep = 0;  // the joint rounds alone
@@ -194,6 +195,9 @@ TEST(SlideSurface, SweepsSlideSurfaceNodesWhenAsked) {
     tmesh::OptimizeParams op;
     op.joint_rounds = 0;
     op.gauss_points = 2;
+    // The paper's sample (corners + Gauss): with a 5^3 grid as well the greedy sweeps end within
+    // noise of each other (alpha 0.2: sliding 0.787, interior 0.797), which says nothing of sliding.
+    op.grid_points = 2;
     op.target = 0.99;
     op.sweeps = 6;
     op.trilinear_sweeps = 0;
