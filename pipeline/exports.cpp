@@ -55,16 +55,19 @@ core::Json write_exports(const StageContext& ctx, const extract::Result& r) {
             std::to_string(r.certified_valid) + " certified valid, scaled Jacobian [" + std::to_string(r.min_scaled) + ", " +
             std::to_string(r.max_scaled) + "], hausdorff_rel " + std::to_string(r.hausdorff_rel) + ", volume_rel_error " +
             std::to_string(r.volume_rel_error));
-  if (!r.worst.empty()) {
-    const auto& w = r.worst.front();
+  auto log_worst = [](const std::string& what, const extract::Result::Worst& w, const std::string& key) {
     char at[160];
-    std::snprintf(at, sizeof at, "(%.4g, %.4g, %.4g)", w.sample.position[0], w.sample.position[1], w.sample.position[2]);
-    core::log("worst element " + std::to_string(w.sample.element) + " (block " + std::to_string(w.block) + ", " + w.block_kind + ", cube " +
+    std::snprintf(at, sizeof at, "(%.4g, %.4g, %.4g), uvw (%.3g, %.3g, %.3g)", w.sample.position[0], w.sample.position[1], w.sample.position[2],
+                  w.sample.uvw[0], w.sample.uvw[1], w.sample.uvw[2]);
+    core::log(what + " " + std::to_string(w.sample.element) + " (block " + std::to_string(w.block) + ", " + w.block_kind + ", cube " +
               std::to_string(w.component) + "): " + std::to_string(w.sample.scaled_jacobian) + " at a " +
-              (w.sample.at_corner ? "corner" : "Gauss point") + " " + at + " on " + std::to_string(w.sample.boundary_faces) +
-              " boundary faces" + (w.sample.surface_bound < 1 ? ", bounded there by the surface's tangents to " + std::to_string(w.sample.surface_bound) : std::string()) +
-              " (report: extract.worst_elements)");
-  }
+              (w.sample.at_corner ? "corner" : w.sample.on_grid ? "grid point" : "Gauss point") + " " + at + " on " +
+              std::to_string(w.sample.boundary_faces) + " boundary faces" +
+              (w.sample.surface_bound < 1 ? ", bounded there by the surface's tangents to " + std::to_string(w.sample.surface_bound) : std::string()) +
+              " (report: extract." + key + ")");
+  };
+  if (!r.worst.empty()) log_worst("worst element", r.worst.front(), "worst_elements");
+  if (!r.worst_dense.empty()) log_worst("worst element between the samples", r.worst_dense.front(), "worst_elements_dense");
   if (vtu) core::log("open in ParaView: " + out);
   core::Json fig = extract::report_figures(r);
   if (vtu) fig["output"] = out;

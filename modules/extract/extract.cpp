@@ -373,13 +373,14 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
     core::log(std::to_string(r.basis.points.size()) + " global functions, partition of unity within " + pou);
   }
   const int gp = params.gauss_points > 0 ? params.gauss_points : r.degree + 1;
+  auto located = [&](const quality::WorstSample& w) {
+    const tmesh::TMesh& t = ts[static_cast<std::size_t>(block[static_cast<std::size_t>(w.element)])];
+    return Result::Worst{w, block[static_cast<std::size_t>(w.element)], t.component, t.kind};
+  };
   {
     core::LogSection s("scaled Jacobian at corners and Gauss points");
     quality::ScaledJacobian sj = quality::scaled_jacobian(r.hexes, gp);
-    for (const quality::WorstSample& w : quality::worst_samples(r.hexes, sj, boundary, gp, 10)) {
-      const tmesh::TMesh& t = ts[static_cast<std::size_t>(block[static_cast<std::size_t>(w.element)])];
-      r.worst.push_back({w, block[static_cast<std::size_t>(w.element)], t.component, t.kind});
-    }
+    for (const quality::WorstSample& w : quality::worst_samples(r.hexes, sj, boundary, gp, 10)) r.worst.push_back(located(w));
     r.min_scaled_jacobian = std::move(sj.min_per_element);
     r.max_scaled_jacobian = std::move(sj.max_per_element);
     r.min_scaled = sj.min, r.max_scaled = sj.max;
@@ -390,6 +391,7 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
     // on element edges and faces (the generated torus: 0.507 there, 0.234 on the grid).
     core::LogSection s("scaled Jacobian on a uniform grid");
     quality::ScaledJacobian d = quality::scaled_jacobian_on_grid(r.hexes, params.dense_points);
+    for (const quality::WorstSample& w : quality::worst_grid_samples(r.hexes, d, boundary, params.dense_points, 10)) r.worst_dense.push_back(located(w));
     r.min_scaled_jacobian_dense = std::move(d.min_per_element);
     r.min_scaled_dense = r.hexes.empty() ? 0.0 : d.min;
     core::log("worst on " + std::to_string(params.dense_points) + "^3 points per element: " + std::to_string(r.min_scaled_dense));
@@ -430,15 +432,19 @@ double frac_above(const std::vector<double>& v, double x) {
 }  // namespace
 
 core::Json report_figures(const Result& r) {
-  core::Json worst = core::Json::array();
-  for (const Result::Worst& x : r.worst) {
-    const quality::WorstSample& w = x.sample;
-    worst.push_back({{"element", w.element}, {"block", x.block}, {"component", x.component}, {"block_kind", x.block_kind},
-                     {"scaled_jacobian", w.scaled_jacobian}, {"sample", w.at_corner ? "corner" : "gauss"},
-                     {"uvw", {w.uvw[0], w.uvw[1], w.uvw[2]}}, {"position", {w.position[0], w.position[1], w.position[2]}},
-                     {"boundary_faces", w.boundary_faces}, {"surface_bound", w.surface_bound}});
-  }
-  return core::Json{{"worst_elements", worst}, {"bezier_elements", r.hexes.size()},   {"degree", r.degree},
+  auto listed = [](const std::vector<Result::Worst>& list) {
+    core::Json worst = core::Json::array();
+    for (const Result::Worst& x : list) {
+      const quality::WorstSample& w = x.sample;
+      worst.push_back({{"element", w.element}, {"block", x.block}, {"component", x.component}, {"block_kind", x.block_kind},
+                       {"scaled_jacobian", w.scaled_jacobian}, {"sample", w.at_corner ? "corner" : w.on_grid ? "grid" : "gauss"},
+                       {"uvw", {w.uvw[0], w.uvw[1], w.uvw[2]}}, {"position", {w.position[0], w.position[1], w.position[2]}},
+                       {"boundary_faces", w.boundary_faces}, {"surface_bound", w.surface_bound}});
+    }
+    return worst;
+  };
+  return core::Json{{"worst_elements", listed(r.worst)}, {"worst_elements_dense", listed(r.worst_dense)},
+                    {"bezier_elements", r.hexes.size()},   {"degree", r.degree},
                     {"min_scaled_jacobian", r.min_scaled}, {"max_scaled_jacobian", r.max_scaled},
                     {"min_scaled_jacobian_dense", r.min_scaled_dense},
                     {"hausdorff_rel", r.hausdorff_rel},    {"volume_rel_error", r.volume_rel_error},

@@ -86,6 +86,9 @@ struct Result {
     std::string block_kind;
   };
   std::vector<Worst> worst;
+  /// The same on the uniform grid of Params::dense_points (quality::worst_grid_samples; empty
+  /// without it): where the field between the samples above is lowest.
+  std::vector<Worst> worst_dense;
 };
 
 /// Distance under which two points of a model in `box` count as equal: rel × its diagonal, plus

@@ -157,9 +157,13 @@ Volume volume(const std::vector<bezier::BezierHex>& hexes, const Mesh& surface, 
   return v;
 }
 
-std::vector<WorstSample> worst_samples(const std::vector<bezier::BezierHex>& hexes, const ScaledJacobian& sj, const std::vector<BoundaryFace>& faces,
-                                       int gauss_points, int count) {
-  if (gauss_points < 1) throw core::InvalidInputError("worst_samples: gauss_points must be >= 1");
+namespace {
+
+// The `count` lowest elements of sj in order, each at its first sample within roundoff of its
+// minimum. samples(hex) gives the element's Jacobians, uvw_of(j) sample j's parameters.
+template <class Samples, class Uvw>
+std::vector<WorstSample> lowest_elements(const std::vector<bezier::BezierHex>& hexes, const ScaledJacobian& sj, const std::vector<BoundaryFace>& faces,
+                                         int count, bool on_grid, Samples samples, Uvw uvw_of) {
   if (sj.min_per_element.size() != hexes.size()) throw core::InvalidInputError("worst_samples: one scaled Jacobian per element is needed");
   const std::vector<double>& worst = sj.min_per_element;
   std::vector<int> order(hexes.size());
@@ -167,26 +171,22 @@ std::vector<WorstSample> worst_samples(const std::vector<bezier::BezierHex>& hex
   const std::size_t k = std::min(order.size(), static_cast<std::size_t>(std::max(count, 0)));
   std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
                     [&](int a, int b) { return worst[static_cast<std::size_t>(a)] < worst[static_cast<std::size_t>(b)] || (worst[static_cast<std::size_t>(a)] == worst[static_cast<std::size_t>(b)] && a < b); });
-  const std::vector<double> g = bezier::gauss_legendre_points(gauss_points);
   std::vector<WorstSample> out;
   for (std::size_t i = 0; i < k; ++i) {
     const int e = order[i];
     const bezier::BezierHex& hex = hexes[static_cast<std::size_t>(e)];
-    const std::vector<Eigen::Matrix3d> J = bezier::jacobian_samples(hex, gauss_points);
-    // The first sample (corners first) within roundoff of the minimum: equal samples of an
-    // affine element name its first corner, not whichever roundoff favours.
+    const std::vector<Eigen::Matrix3d> J = samples(hex);
+    // The first sample within roundoff of the minimum: equal samples of an affine element name
+    // its first one, not whichever roundoff favours.
     std::size_t at = 0;
     for (std::size_t j = 1; j < J.size(); ++j)
       if (bezier::scaled_jacobian(J[j]) < bezier::scaled_jacobian(J[at]) - 1e-12) at = j;
     WorstSample w;
     w.element = e;
     w.scaled_jacobian = worst[static_cast<std::size_t>(e)];
-    w.at_corner = at < 8;
-    if (w.at_corner) w.uvw = Eigen::Vector3d(static_cast<double>(at & 1), static_cast<double>((at >> 1) & 1), static_cast<double>((at >> 2) & 1));
-    else {
-      const std::size_t n = g.size(), q = at - 8;
-      w.uvw = Eigen::Vector3d(g[q % n], g[(q / n) % n], g[q / (n * n)]);
-    }
+    w.on_grid = on_grid;
+    w.uvw = uvw_of(at);
+    w.at_corner = (w.uvw.array() == 0.0 || w.uvw.array() == 1.0).all();
     w.position = bezier::evaluate(hex, w.uvw);
     int axis = -1;
     for (const BoundaryFace& f : faces)
@@ -199,6 +199,35 @@ std::vector<WorstSample> worst_samples(const std::vector<bezier::BezierHex>& hex
     out.push_back(w);
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<WorstSample> worst_samples(const std::vector<bezier::BezierHex>& hexes, const ScaledJacobian& sj, const std::vector<BoundaryFace>& faces,
+                                       int gauss_points, int count) {
+  if (gauss_points < 1) throw core::InvalidInputError("worst_samples: gauss_points must be >= 1");
+  const std::vector<double> g = bezier::gauss_legendre_points(gauss_points);
+  const std::size_t n = g.size();
+  // jacobian_samples: the 8 corners (bit d of the index: coordinate d), then the Gauss points.
+  return lowest_elements(hexes, sj, faces, count, false, [&](const bezier::BezierHex& h) { return bezier::jacobian_samples(h, gauss_points); },
+                         [&](std::size_t at) {
+                           if (at < 8) return Eigen::Vector3d(static_cast<double>(at & 1), static_cast<double>((at >> 1) & 1), static_cast<double>((at >> 2) & 1));
+                           const std::size_t q = at - 8;
+                           return Eigen::Vector3d(g[q % n], g[(q / n) % n], g[q / (n * n)]);
+                         });
+}
+
+std::vector<WorstSample> worst_grid_samples(const std::vector<bezier::BezierHex>& hexes, const ScaledJacobian& sj,
+                                            const std::vector<BoundaryFace>& faces, int points, int count) {
+  if (points < 2) throw core::InvalidInputError("worst_grid_samples: at least 2 points per direction, got " + std::to_string(points));
+  const std::size_t n = static_cast<std::size_t>(points);
+  return lowest_elements(hexes, sj, faces, count, true, [&](const bezier::BezierHex& x) { return bezier::jacobian_grid(x, points); },
+                         [&](std::size_t at) {
+                           const std::size_t i = at % n, j = (at / n) % n, k = at / (n * n);
+                           // As jacobian_grid's abscissae: a / (n - 1), exact at the ends.
+                           auto t = [&](std::size_t a) { return static_cast<double>(a) / (points - 1.0); };
+                           return Eigen::Vector3d(t(i), t(j), t(k));
+                         });
 }
 
 }  // namespace volts::quality

@@ -66,7 +66,8 @@ BoundaryDeviation boundary_deviation(const std::vector<bezier::BezierHex>& hexes
 struct WorstSample {
   int element = 0;
   double scaled_jacobian = 0;          ///< the element's sampled minimum (its worst sample: within 1e-12)
-  bool at_corner = false;              ///< at one of the 8 corners (else at a Gauss point)
+  bool at_corner = false;              ///< at one of the 8 corners (else at a Gauss point, or a grid point)
+  bool on_grid = false;                ///< a point of the uniform grid (worst_grid_samples)
   Eigen::Vector3d uvw{0, 0, 0};        ///< the sample in the element's parameters
   Eigen::Vector3d position{0, 0, 0};   ///< and in physical space
   int boundary_faces = 0;              ///< boundary faces of the element through the sample (0 inside)
@@ -84,6 +85,13 @@ struct WorstSample {
 /// core::InvalidInputError for gauss_points < 1 or `sj` not of these hexes.
 std::vector<WorstSample> worst_samples(const std::vector<bezier::BezierHex>& hexes, const ScaledJacobian& sj, const std::vector<BoundaryFace>& faces,
                                        int gauss_points, int count);
+
+/// As worst_samples, on scaled_jacobian_on_grid's uniform grid of `points` per direction (`sj`
+/// from it): the first grid point (i fastest) within roundoff of each element's minimum, on_grid
+/// set, at_corner when it is one of the 8 corners. Throws InvalidInputError as worst_samples, or
+/// if points < 2.
+std::vector<WorstSample> worst_grid_samples(const std::vector<bezier::BezierHex>& hexes, const ScaledJacobian& sj,
+                                            const std::vector<BoundaryFace>& faces, int points, int count);
 
 struct Volume {
   double elements = 0;   ///< ∫ det J over all elements

@@ -263,6 +263,14 @@ TEST(Pipeline, TorusRunsEndToEndAsARingOfFourCubes) {
   // Gauss points by default; with the paper's sample alone (tmesh.grid_points 2) this was 0.186.
   EXPECT_GT(x["min_scaled_jacobian_dense"].get<double>(), 0.4);
   EXPECT_LE(x["min_scaled_jacobian_dense"].get<double>(), x["min_scaled_jacobian"].get<double>() + 1e-12);
+  {
+    // Where the field between the samples is lowest: ten elements, the first at the dense minimum.
+    const core::Json& wd = x["worst_elements_dense"];
+    ASSERT_EQ(wd.size(), 10u);
+    EXPECT_DOUBLE_EQ(wd[0]["scaled_jacobian"].get<double>(), x["min_scaled_jacobian_dense"].get<double>());
+    for (std::size_t i = 1; i < wd.size(); ++i) EXPECT_GE(wd[i]["scaled_jacobian"].get<double>(), wd[i - 1]["scaled_jacobian"].get<double>());
+    for (const auto& e : wd) EXPECT_TRUE(e["sample"] == "grid" || e["sample"] == "corner") << e["sample"];
+  }
   // The worst elements for debugging: ten, worst first, the first at the reported minimum, each
   // in one of the four cubes and a block of the tmesh stage file.
   const core::Json& w = x["worst_elements"];

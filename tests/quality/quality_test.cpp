@@ -148,6 +148,44 @@ TEST(Quality, ScaledJacobianOnAGridSeesBetweenTheSamples) {
   EXPECT_THROW(scaled_jacobian_on_grid(hexes, 1), core::InvalidInputError);
 }
 
+// worst_grid_samples: the element with the dip first, at the grid point where the field is lowest
+// (checked against every point of the grid by evaluate()), named as a grid point with its
+// boundary faces; an undistorted element after it, at its first grid point (all equal).
+TEST(Quality, WorstGridSampleIsTheLowestGridPoint) {
+  bezier::BezierHex h = box_hex(kLo, kHi);
+  h.points[static_cast<std::size_t>(h.index(1, 1, 0))] += Eigen::Vector3d(0.8, 0.0, 0.0);
+  const std::vector<bezier::BezierHex> hexes{box_hex(kLo, kHi), h};
+  const std::vector<BoundaryFace> faces{{1, 2, 0}};  // element 1's w = 0 face, where the dip is
+  for (const int n : {5, 7}) {
+    const ScaledJacobian g = scaled_jacobian_on_grid(hexes, n);
+    const std::vector<WorstSample> w = worst_grid_samples(hexes, g, faces, n, 2);
+    ASSERT_EQ(w.size(), 2u);
+    EXPECT_EQ(w[0].element, 1);
+    EXPECT_TRUE(w[0].on_grid);
+    EXPECT_DOUBLE_EQ(w[0].scaled_jacobian, g.min_per_element[1]);
+    double lowest = 2;
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          Eigen::Matrix3d J;
+          bezier::evaluate(h, Eigen::Vector3d(i, j, k) / (n - 1.0), &J);
+          lowest = std::min(lowest, bezier::scaled_jacobian(J));
+        }
+    EXPECT_NEAR(w[0].scaled_jacobian, lowest, 1e-12);
+    Eigen::Matrix3d J;
+    EXPECT_NEAR((bezier::evaluate(h, w[0].uvw, &J) - w[0].position).norm(), 0.0, 1e-15);
+    EXPECT_NEAR(bezier::scaled_jacobian(J), lowest, 1e-12);
+    for (int d = 0; d < 3; ++d) EXPECT_NEAR(w[0].uvw[d] * (n - 1), std::round(w[0].uvw[d] * (n - 1)), 1e-12) << "not a grid point";
+    EXPECT_EQ(w[0].boundary_faces, w[0].uvw[2] == 0.0 ? 1 : 0);
+    EXPECT_EQ(w[1].element, 0);
+    EXPECT_TRUE(w[1].at_corner && w[1].on_grid);
+    EXPECT_EQ(w[1].uvw, Eigen::Vector3d::Zero());
+    EXPECT_NEAR(w[1].scaled_jacobian, 1.0, 1e-12);
+  }
+  EXPECT_THROW(worst_grid_samples(hexes, scaled_jacobian_on_grid(hexes, 3), faces, 1, 2), core::InvalidInputError);
+  EXPECT_THROW(worst_grid_samples(hexes, scaled_jacobian_on_grid({hexes[0]}, 3), faces, 3, 2), core::InvalidInputError);
+}
+
 TEST(Quality, BoxHexDoesNotDeviateFromTheSurfaceThroughItsBoundary) {
   const surface::Mesh s = box_surface();
   const auto dev = boundary_deviation({box_hex(kLo, kHi)}, all_faces(0), s, 8);
