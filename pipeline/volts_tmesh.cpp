@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 
+#include "core/errors.h"
 #include "core/log.h"
 #include "polycube_input.h"
 #include "stage_main.h"
@@ -52,58 +53,90 @@ core::Json worst_blocks(const std::vector<tmesh::TMesh>& ts, const tmesh::Optimi
   return out;
 }
 
-// Blocks, optimization, files and report: the same for every kind of polycube.
-core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surface, tmesh::PolycubeMaps maps) {
+// tmesh.h_refine: the T-mesh is laid out and optimized h levels coarser than tmesh.level (its
+// adaptive bound max_level too) and refined to it by knot insertion afterwards.
+tmesh::Params coarser(const tmesh::Params& want, int h) {
+  tmesh::Params p = want;
+  p.level = want.level - h;
+  p.max_level = std::max(p.level, want.max_level - h);
+  p.h_refine = h;
+  return p;
+}
+
+// Blocks, optimization, files and report: the same for every kind of polycube. The layout is
+// tried h_refine levels coarser first, then one level finer at a time where it does not fit
+// (a hole's pillow needs room: TopologyError), down to tmesh.level itself.
+core::Json build_and_write(pipeline::StageContext& ctx) {
+  const tmesh::Params& want = ctx.config.tmesh;
+  int h = std::max(0, std::min(want.h_refine, want.level - 1));
+  if (h < want.h_refine) core::log("tmesh.h_refine " + std::to_string(want.h_refine) + " leaves no level to build at: " + std::to_string(h));
+  tmesh::Params params = coarser(want, h);
+  pipeline::PolycubeInput in;
   std::vector<tmesh::TMesh> ts;
   tmesh::Levels levels;
   // The input surface as closest-point queries, built once: the adaptive levels' deviation
   // (measured whenever epsilon_rel > 0, report key levels) and the sliding surface nodes.
-  const bool slide_nodes = ctx.config.tmesh.optimize_sweeps > 0 && ctx.config.tmesh.slide_surface;
+  const bool slide_nodes = params.optimize_sweeps > 0 && params.slide_surface;
   std::unique_ptr<tmesh::SlideSurface> input;
-  if (ctx.config.tmesh.epsilon_rel > 0 || slide_nodes) {
-    const surface::Mesh mesh = surface::mesh_from_json(surface, ctx.input_file("polycube"));
-    input = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), surface::triangle_triples(mesh));
-    if (ctx.config.tmesh.epsilon_rel > 0) {
-      maps.surface_distance = [&input](const tmesh::Vec3& x) {
-        const tmesh::Vec3 y = input->closest(x);
-        return std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
-      };
-      Eigen::AlignedBox3d box;
-      for (const auto& v : surface::vertex_array(mesh)) box.extend(Eigen::Vector3d(v[0], v[1], v[2]));
-      maps.diagonal = box.diagonal().norm();
+  double diagonal = 0;
+  for (;;) {
+    try {
+      in = pipeline::read_polycube_input(ctx.input_file("polycube"), params);
+      if (!input && (params.epsilon_rel > 0 || slide_nodes)) {
+        const surface::Mesh mesh = surface::mesh_from_json(in.surface, ctx.input_file("polycube"));
+        input = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), surface::triangle_triples(mesh));
+        Eigen::AlignedBox3d box;
+        for (const auto& v : surface::vertex_array(mesh)) box.extend(Eigen::Vector3d(v[0], v[1], v[2]));
+        diagonal = box.diagonal().norm();
+      }
+      if (params.epsilon_rel > 0) {
+        in.maps.surface_distance = [&input](const tmesh::Vec3& x) {
+          const tmesh::Vec3 y = input->closest(x);
+          return std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
+        };
+        in.maps.diagonal = diagonal;
+      }
+      core::LogSection s("octree, pillow and control points");
+      ts = tmesh::build(in.maps, params, &levels);
+      break;
+    } catch (const core::TopologyError& e) {
+      if (h == 0) throw;
+      core::log("the layout does not fit at level " + std::to_string(params.level) + " (" + e.what() + "): built at level " +
+                std::to_string(params.level + 1) + ", h-refined " + std::to_string(h - 1) + " time(s)");
+      params = coarser(want, --h);
     }
   }
+  const core::Json& surface = in.surface;
+  const tmesh::PolycubeMaps& maps = in.maps;
   {
-    core::LogSection s("octree, pillow and control points");
-    ts = tmesh::build(maps, ctx.config.tmesh, &levels);
     std::map<int, int> per_level;
     for (const int l : levels.level) ++per_level[l];
     std::string counts;
     for (const auto& [l, k] : per_level) counts += (counts.empty() ? "" : ", ") + std::to_string(k) + " at level " + std::to_string(l);
     core::log("cubes: " + counts + " (adaptive levels: " + levels.stop + ", boundary deviation " + std::to_string(levels.deviation_rel) +
-              " of the diagonal, epsilon_rel " + std::to_string(ctx.config.tmesh.epsilon_rel) + ")");
+              " of the diagonal, epsilon_rel " + std::to_string(params.epsilon_rel) + ")");
   }
   double before = std::numeric_limits<double>::infinity();
   for (const auto& t : ts) before = std::min(before, tmesh::min_element_scaled_jacobian(t));
   double after = before;
   tmesh::OptimizeResult opt;
   opt.stop_reason = "disabled";
-  if (ctx.config.tmesh.optimize_sweeps > 0) {
+  if (params.optimize_sweeps > 0) {
     core::LogSection s("optimization of the worst Jacobian");
     tmesh::OptimizeParams op;
-    op.sweeps = ctx.config.tmesh.optimize_sweeps;
-    op.joint_rounds = ctx.config.tmesh.joint_rounds;
-    op.cycles = ctx.config.tmesh.optimize_cycles;
-    op.trilinear_sweeps = ctx.config.tmesh.trilinear_sweeps;
-    op.trilinear_guard = ctx.config.tmesh.trilinear_guard;
-    op.joint_evaluations = ctx.config.tmesh.joint_evaluations;
-    op.grid_points = ctx.config.tmesh.grid_points;
-    op.joint_sharpness = ctx.config.tmesh.joint_sharpness;
-    op.joint_window = ctx.config.tmesh.joint_window;
-    op.slide_from_start = ctx.config.tmesh.slide_from == "start";
-    op.slide_sharp_curves = ctx.config.tmesh.slide_sharp_curves;
+    op.sweeps = params.optimize_sweeps;
+    op.joint_rounds = params.joint_rounds;
+    op.cycles = params.optimize_cycles;
+    op.trilinear_sweeps = params.trilinear_sweeps;
+    op.trilinear_guard = params.trilinear_guard;
+    op.joint_evaluations = params.joint_evaluations;
+    op.grid_points = params.grid_points;
+    op.joint_sharpness = params.joint_sharpness;
+    op.joint_window = params.joint_window;
+    op.slide_from_start = params.slide_from == "start";
+    op.slide_sharp_curves = params.slide_sharp_curves;
     // Optimize the figure extract reports: its Gauss points (0 = degree + 1) and the corners.
-    op.gauss_points = ctx.config.extract.gauss_points > 0 ? ctx.config.extract.gauss_points : ctx.config.tmesh.degree + 1;
+    op.gauss_points = ctx.config.extract.gauss_points > 0 ? ctx.config.extract.gauss_points : params.degree + 1;
     const tmesh::SlideSurface* slide = slide_nodes ? input.get() : nullptr;
     if (slide)
       core::log("surface nodes slide along the input surface (" + std::to_string(slide->sharp_edges()) + " sharp edges, " +
@@ -118,17 +151,17 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
     for (const auto& t : ts) n += t.elements();
     return n;
   }();
-  if (ctx.config.tmesh.h_refine > 0) {
+  if (params.h_refine > 0) {
     core::LogSection s("h-refinement by knot insertion");
     std::vector<int> parent;
-    ts = tmesh::h_refine(maps, ctx.config.tmesh, ts, ctx.config.tmesh.h_refine, &parent);
+    ts = tmesh::h_refine(maps, params, ts, params.h_refine, &parent);
     for (auto* field : {&opt.element_before, &opt.element_after}) {
       if (field->empty()) continue;
       std::vector<double> fine;
       for (const int e : parent) fine.push_back((*field)[static_cast<std::size_t>(e)]);
       field->swap(fine);
     }
-    core::log("every element split in " + std::to_string(1 << (3 * ctx.config.tmesh.h_refine)) + ": " + std::to_string(optimized_elements) + " -> " +
+    core::log("every element split in " + std::to_string(1 << (3 * params.h_refine)) + ": " + std::to_string(optimized_elements) + " -> " +
               std::to_string(parent.size()) + " elements");
   }
   {
@@ -144,7 +177,7 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
   core::Json fig = tmesh::report_figures(ts, before, after);
   fig["levels"] = {{"stop", levels.stop}, {"refinements", levels.refinements}, {"refined_blocks", levels.refined_blocks}, {"cube_levels", levels.level},
                    {"boundary_deviation_rel", levels.deviation_rel}, {"cube_deviation_rel", levels.cube_deviation_rel},
-                   {"epsilon_rel", ctx.config.tmesh.epsilon_rel}};
+                   {"epsilon_rel", params.epsilon_rel}};
   // The Bézier elements' sampled scaled Jacobian around optimization (trilinear figures above).
   fig["optimization"] = {{"sweeps", opt.sweeps}, {"nodes_moved", opt.nodes_moved},
                          {"bezier_min_scaled_jacobian_before", opt.min_before}, {"bezier_min_scaled_jacobian_after", opt.min_after},
@@ -152,7 +185,8 @@ core::Json build_and_write(pipeline::StageContext& ctx, const core::Json& surfac
                          {"stop_reason", opt.stop_reason}, {"sweeps_cut_at_node_bound", opt.sweeps_cut_at_node_bound},
                          {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds}, {"cycles", opt.cycles},
                          {"surface_nodes_slid", opt.surface_nodes_slid}, {"worst_blocks", worst}};
-  fig["h_refine"] = ctx.config.tmesh.h_refine;
+  fig["h_refine"] = params.h_refine;
+  fig["level_optimized"] = params.level;
   fig["elements_optimized"] = optimized_elements;
   core::log(std::to_string(fig["blocks"].get<int>()) + " blocks, " + std::to_string(fig["elements"].get<int>()) + " elements, " +
             std::to_string(fig["nodes"].get<int>()) + " nodes, min control-net scaled Jacobian " + std::to_string(after));
@@ -167,7 +201,6 @@ int main(int argc, char** argv) {
       "control points through the volume map. Input: DIR/polycube.stage.json. Output: DIR/tmesh.stage.json,\n"
       "DIR/tmesh.vtu (the control net with scaled_jacobian, component, block and pillow per hex).",
       [](pipeline::StageContext& ctx) {
-        const pipeline::PolycubeInput in = pipeline::read_polycube_input(ctx.input_file("polycube"), ctx.config.tmesh);
-        return build_and_write(ctx, in.surface, in.maps);
+        return build_and_write(ctx);
       });
 }
