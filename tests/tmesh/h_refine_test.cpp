@@ -118,12 +118,7 @@ TEST(HRefine, RefinesTheOptimizedSplineTwice) {
   p.level = 1;
   auto ts = tmesh::build(maps, p, {1, 2, 1, 2});
   const auto start = ts;
-  tmesh::OptimizeParams op;
-  op.target = 0.9;  // out of reach: the round runs
-  op.joint_rounds = 1;
-  op.joint_evaluations = 30;
-  op.sweeps = 1;
-  const tmesh::OptimizeResult r = tmesh::optimize(ts, op);
+  const tmesh::OptimizeResult r = tmesh::optimize(ts, test::running_rounds(1, 30));
   ASSERT_GT(r.nodes_moved + r.joint_rounds, 0);
   double moved = 0;
   for (std::size_t b = 0; b < ts.size(); ++b)

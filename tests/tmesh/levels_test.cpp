@@ -258,12 +258,7 @@ TEST(Levels, OptimizationMovesTheNodesOfJunctionRowsAndKeepsTheRows) {
   for (const auto& t : ts)
     for (std::size_t i = 0; i < t.control_points.size(); ++i)
       if (masters.count(t.function_ids[i])) start[t.function_ids[i]] = t.control_points[i];
-  tmesh::OptimizeParams op;
-  op.target = 0.9;  // out of reach: every round runs
-  op.joint_rounds = 3;
-  op.sweeps = 1;
-  op.joint_evaluations = 100;
-  const tmesh::OptimizeResult r = tmesh::optimize(ts, op);
+  const tmesh::OptimizeResult r = tmesh::optimize(ts, test::running_rounds(3, 100));
   std::printf("worst scaled Jacobian %.4f -> %.4f, %d nodes moved\n", r.min_before, r.min_after, r.nodes_moved);
   EXPECT_GE(r.min_after, r.min_before);
   EXPECT_GT(r.min_after, r.min_before + 0.01);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bezier/bspline_volume.h"
+#include "tmesh/optimize.h"
 #include "tmesh/pillow.h"
 #include "tmesh/tmesh.h"
 
@@ -90,5 +91,16 @@ inline std::vector<bezier::BezierHex> hexes(const std::vector<tmesh::TMesh>& ts)
   return h;
 }
 
+
+// Optimizer settings under which the joint rounds run to their own bounds (a target out of
+// reach) followed by one sweep.
+inline tmesh::OptimizeParams running_rounds(int rounds, int evaluations) {
+  tmesh::OptimizeParams op;
+  op.target = 0.9;
+  op.joint_rounds = rounds;
+  op.joint_evaluations = evaluations;
+  op.sweeps = 1;
+  return op;
+}
 
 }  // namespace volts::test
