@@ -116,8 +116,11 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
     core::log("cubes: " + counts + " (adaptive levels: " + levels.stop + ", boundary deviation " + std::to_string(levels.deviation_rel) +
               " of the diagonal, epsilon_rel " + std::to_string(params.epsilon_rel) + ")");
   }
+  // The control net's figure before optimization, on the mesh the figure after is taken on: the
+  // unoptimized T-mesh refined alike (knot insertion moves the net, not the spline).
   double before = std::numeric_limits<double>::infinity();
-  for (const auto& t : ts) before = std::min(before, tmesh::min_element_scaled_jacobian(t));
+  for (const auto& t : params.h_refine > 0 ? tmesh::h_refine(maps, params, ts, params.h_refine) : ts)
+    before = std::min(before, tmesh::min_element_scaled_jacobian(t));
   double after = before;
   tmesh::OptimizeResult opt;
   opt.stop_reason = "disabled";
