@@ -69,7 +69,9 @@ tmesh::Params coarser(const tmesh::Params& want, int h) {
 core::Json build_and_write(pipeline::StageContext& ctx) {
   const tmesh::Params& want = ctx.config.tmesh;
   int h = std::max(0, std::min(want.h_refine, want.level - 1));
-  if (h < want.h_refine) core::log("tmesh.h_refine " + std::to_string(want.h_refine) + " leaves no level to build at: " + std::to_string(h));
+  if (h < want.h_refine)
+    core::log("tmesh.h_refine " + std::to_string(want.h_refine) + " at tmesh.level " + std::to_string(want.level) + ": optimized at level " +
+              std::to_string(want.level - h) + ", refined " + std::to_string(h) + " time(s)");
   tmesh::Params params = coarser(want, h);
   pipeline::PolycubeInput in;
   std::vector<tmesh::TMesh> ts;

@@ -85,10 +85,10 @@ struct Params {
   std::string refine = "boundary";
   /// h-refinement after optimization (h_refine()): every element split in eight this many times
   /// by knot insertion — the same spline (geometry, Jacobian, validity) on 8^h_refine times the
-  /// elements and more functions; a block's level + h_refine <= 7 [0, 3]. build() and
-  /// h_refine() take `level` as the level to build at; volts-tmesh builds and optimizes at
-  /// tmesh.level - h_refine and refines to tmesh.level (optimizing the coarse spline sees its
-  /// field between the fine samples: session 32, docs/status.md).
+  /// elements and more functions [0, 3]. build() and h_refine() take `level` as the level to
+  /// build at; volts-tmesh builds and optimizes at tmesh.level - h_refine (at least 1) and
+  /// refines to tmesh.level (optimizing the coarse spline sees its field between the fine
+  /// samples: session 32, docs/status.md).
   int h_refine = 1;
 };
 
