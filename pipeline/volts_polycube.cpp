@@ -10,6 +10,7 @@
 
 #include "core/errors.h"
 #include "core/log.h"
+#include "core/parallel.h"
 #include "polycube/connector.h"
 #include "polycube/difference.h"
 #include "polycube/embedding.h"
@@ -247,8 +248,26 @@ core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::D
   std::optional<polycube::Ring> neck = polycube::connector(d);
   polycube::Params params = ctx.config.polycube;
   if (neck) params.smooth_below_ratio = params.connector_smooth_below_ratio;
+  // The rings' maps and the connector's are independent: run concurrently (logs in this order).
+  std::vector<std::function<void()>> maps_to_make;
   for (std::size_t i = 0; i < rings.size(); ++i)
-    map_torus(ctx, rings[i].decomposition, "ring " + std::to_string(i) + ": ", params, ms[i], vms[i]);
+    maps_to_make.push_back([&, i] { map_torus(ctx, rings[i].decomposition, "ring " + std::to_string(i) + ": ", params, ms[i], vms[i]); });
+  polycube::ConnectorMap nm;
+  volmap::VolumeMap neck_vm;
+  if (neck)
+    maps_to_make.push_back([&] {
+      {
+        core::LogSection s("connector: surface map");
+        polycube::PatchMapParams pp;
+        pp.weights = ctx.config.polycube.weights;
+        nm = polycube::map_connector(*neck, rings[0], pp);
+      }
+      {
+        core::LogSection s("connector: volume map");
+        neck_vm = polycube::connector_volume_map(*neck, nm, params);
+      }
+    });
+  core::parallel_tasks(maps_to_make);
   core::Json list = core::Json::array(), figures = core::Json::array();
   std::vector<const volmap::VolumeMap*> maps;
   std::vector<std::array<double, 3>> offsets;
@@ -272,19 +291,7 @@ core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::D
   r["rings"] = figures;
   // A connector cube between the tori (split.genus2: connector): mapped onto the unit cube.
   core::Json connectors = core::Json::array();
-  volmap::VolumeMap neck_vm;
   if (neck) {
-    polycube::ConnectorMap nm;
-    {
-      core::LogSection s("connector: surface map");
-      polycube::PatchMapParams pp;
-      pp.weights = ctx.config.polycube.weights;
-      nm = polycube::map_connector(*neck, rings[0], pp);
-    }
-    {
-      core::LogSection s("connector: volume map");
-      neck_vm = polycube::connector_volume_map(*neck, nm, params);
-    }
     warn_if_flipped("connector: ", nm.flipped_surface_triangles, neck_vm);
     connectors.push_back(polycube::to_json(*neck, nm, neck_vm));
     maps.push_back(&neck_vm);

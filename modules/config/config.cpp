@@ -238,6 +238,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("rim_pillow_lenses", c.tmesh.rim_pillow_lenses);
     s.get("pillow_thickness", c.tmesh.pillow_thickness, {"physical", "parametric"});
     s.get("epsilon_rel", c.tmesh.epsilon_rel, 0.0, 1.0);
+    s.get("deviation_samples", c.tmesh.deviation_samples, 2, 64);
     s.get("max_level", c.tmesh.max_level, 1, 7);
     s.get("h_refine", c.tmesh.h_refine, 0, 3);
     s.get("refine", c.tmesh.refine, {"boundary", "cube"});
@@ -426,6 +427,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "rim_pillow_lenses" << YAML::Value << c.tmesh.rim_pillow_lenses;
   e << YAML::Key << "pillow_thickness" << YAML::Value << c.tmesh.pillow_thickness;
   e << YAML::Key << "epsilon_rel" << YAML::Value << c.tmesh.epsilon_rel;
+  e << YAML::Key << "deviation_samples" << YAML::Value << c.tmesh.deviation_samples;
   e << YAML::Key << "max_level" << YAML::Value << c.tmesh.max_level;
   e << YAML::Key << "refine" << YAML::Value << c.tmesh.refine;
   e << YAML::Key << "h_refine" << YAML::Value << c.tmesh.h_refine << YAML::EndMap;

@@ -8,6 +8,12 @@ namespace volts::core {
 namespace {
 LogLevel g_level = LogLevel::normal;
 std::string g_tool = "volts";
+thread_local std::string* t_capture = nullptr;  // this thread's LogCapture, if any
+
+void emit(const std::string& line) {
+  if (t_capture) *t_capture += line;
+  else std::cerr << line;
+}
 }  // namespace
 
 void set_log_level(LogLevel level) { g_level = level; }
@@ -15,14 +21,25 @@ LogLevel log_level() { return g_level; }
 void set_log_tool(const std::string& tool) { g_tool = tool; }
 
 void log(const std::string& message) {
-  if (g_level >= LogLevel::normal) std::cerr << "[" << g_tool << "] " << message << "\n";
+  if (g_level >= LogLevel::normal) emit("[" + g_tool + "] " + message + "\n");
 }
 void log_verbose(const std::string& message) {
-  if (g_level >= LogLevel::verbose) std::cerr << "[" << g_tool << "] " << message << "\n";
+  if (g_level >= LogLevel::verbose) emit("[" + g_tool + "] " + message + "\n");
 }
 void log_warning(const std::string& message) {
-  if (g_level > LogLevel::quiet) std::cerr << "[" << g_tool << "] warning: " << message << "\n";
+  if (g_level > LogLevel::quiet) emit("[" + g_tool + "] warning: " + message + "\n");
 }
+
+LogCapture::LogCapture() : outer_(t_capture) { t_capture = &lines_; }
+LogCapture::~LogCapture() {
+  if (!released_) log_lines(release());
+}
+std::string LogCapture::release() {
+  if (t_capture == &lines_) t_capture = outer_;
+  released_ = true;
+  return std::move(lines_);
+}
+void log_lines(const std::string& lines) { emit(lines); }
 
 LogSection::LogSection(std::string name) : name_(std::move(name)) { log("== " + name_); }
 LogSection::~LogSection() {

@@ -22,6 +22,28 @@ void log_warning(const std::string& message);
 /// Sets the tool name shown in front of every line.
 void set_log_tool(const std::string& tool);
 
+/// While alive, the log lines of the thread that made it (log, log_verbose, log_warning,
+/// sections) are kept instead of printed; release() hands them over, else the destructor prints
+/// them. For work run concurrently whose log should read as if it had run in turn
+/// (core::parallel_tasks). Captures nest: an inner one's lines go to the outer one.
+class LogCapture {
+ public:
+  LogCapture();
+  ~LogCapture();
+  LogCapture(const LogCapture&) = delete;
+  LogCapture& operator=(const LogCapture&) = delete;
+  /// Stops capturing and returns the lines kept, each ending in a newline.
+  std::string release();
+
+ private:
+  std::string lines_;
+  std::string* outer_;  // the capture this one is nested in (its lines go there)
+  bool released_ = false;
+};
+
+/// Prints lines a LogCapture released, as they are.
+void log_lines(const std::string& lines);
+
 /// Wall-clock stopwatch.
 class Stopwatch {
  public:

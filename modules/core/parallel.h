@@ -14,6 +14,8 @@
 #include <thread>
 #include <vector>
 
+#include "core/log.h"
+
 namespace volts::core {
 
 /// Threads parallel_for uses: VOLTS_THREADS if set to a positive number, else the hardware's.
@@ -144,5 +146,33 @@ class ThreadPool {
   std::atomic<std::size_t> next_{0};
   bool stop_ = false;
 };
+
+/// Runs independent tasks on up to thread_count() threads (each task on one thread) and returns
+/// when all are done. Each task's log is held back and printed in task order, so the log reads
+/// as if they had run in turn. The exception of the first task (in order) that threw is rethrown.
+inline void parallel_tasks(const std::vector<std::function<void()>>& tasks) {
+  std::vector<std::exception_ptr> errors(tasks.size());
+  std::vector<std::string> lines(tasks.size());
+  std::atomic<std::size_t> next{0};
+  auto run = [&] {
+    for (std::size_t t = next++; t < tasks.size(); t = next++) {
+      LogCapture capture;
+      try {
+        tasks[t]();
+      } catch (...) {
+        errors[t] = std::current_exception();
+      }
+      lines[t] = capture.release();
+    }
+  };
+  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(thread_count()), tasks.size());
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(run);
+  run();
+  for (auto& th : pool) th.join();
+  for (const std::string& l : lines) log_lines(l);
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+}
 
 }  // namespace volts::core

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <sstream>
 #include <string>
 
@@ -79,6 +80,9 @@ TetMesh tetrahedralize(const surface::Mesh& surface, const TetgenParams& p) {
   std::string switches = sw.str();
   core::log_verbose("tetgen -" + switches);
   try {
+    // TetGen's exact predicates set global state on every call (exactinit): one call at a time.
+    static std::mutex tetgen;
+    const std::lock_guard<std::mutex> lock(tetgen);
     ::tetrahedralize(switches.data(), &in, &out);
   } catch (int code) {
     throw core::NumericalError("TetGen failed: " + tetgen_reason(code) + " (switches -" + switches + ")");

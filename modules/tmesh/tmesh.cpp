@@ -13,6 +13,7 @@
 #include "bezier/bspline_volume.h"
 #include "core/errors.h"
 #include "core/log.h"
+#include "core/parallel.h"
 #include "tmesh/pillow.h"
 #include "viz/viz.h"
 
@@ -46,6 +47,8 @@ void check(const Params& params) {
   if (params.pillow_layers < 0 || params.pillow_layers > 4)
     throw core::ConfigError("tmesh.pillow_layers must be in [0, 4], got " + std::to_string(params.pillow_layers));
   if (params.h_refine < 0 || params.h_refine > 3) throw core::ConfigError("tmesh.h_refine must be in [0, 3], got " + std::to_string(params.h_refine));
+  if (params.deviation_samples < 2 || params.deviation_samples > 64)
+    throw core::ConfigError("tmesh.deviation_samples must be in [2, 64], got " + std::to_string(params.deviation_samples));
 }
 
 }  // namespace
@@ -384,47 +387,50 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const s
 
 namespace {
 
-// Per block of ts: the largest distance at its boundary faces (0 without one).
-std::vector<double> block_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance) {
+// Per block of ts: the largest distance at its boundary faces (0 without one), on a uniform grid
+// of `points` per element direction (corners included). Blocks in parallel: the distance is a
+// const query (an AABB tree).
+std::vector<double> block_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance, int points) {
   std::vector<double> dev(ts.size(), 0.0);
-  for (std::size_t b = 0; b < ts.size(); ++b) {
+  core::parallel_for(ts.size(), [&](std::size_t b) {
     const TMesh& t = ts[b];
-    if (std::none_of(t.boundary.begin(), t.boundary.end(), [](int f) { return f != 0; })) continue;
+    if (std::none_of(t.boundary.begin(), t.boundary.end(), [](int f) { return f != 0; })) return;
     bezier::TensorBSplineVolume vol;
     vol.degree = {t.degree, t.degree, t.degree};
     vol.knots = t.knots;
     for (const auto& p : t.control_points) vol.points.emplace_back(p[0], p[1], p[2]);
-    // Element corners and midpoints per direction.
     std::array<std::vector<double>, 3> g;
-    for (int a = 0; a < 3; ++a)
-      for (const auto& iv : bezier::element_intervals(t.knots[static_cast<std::size_t>(a)], t.degree)) {
-        if (g[static_cast<std::size_t>(a)].empty()) g[static_cast<std::size_t>(a)].push_back(iv[0]);
-        g[static_cast<std::size_t>(a)].push_back(0.5 * (iv[0] + iv[1]));
-        g[static_cast<std::size_t>(a)].push_back(iv[1]);
-      }
+    for (std::size_t a = 0; a < 3; ++a)
+      for (const auto& iv : bezier::element_intervals(t.knots[a], t.degree))
+        for (int i = g[a].empty() ? 0 : 1; i < points; ++i) g[a].push_back(iv[0] + (iv[1] - iv[0]) * i / (points - 1));
     for (int f = 0; f < 6; ++f) {
       if (!t.boundary[static_cast<std::size_t>(f)]) continue;
-      const int a = f / 2, u = (a + 1) % 3, v = (a + 2) % 3;
-      for (const double x : g[static_cast<std::size_t>(u)])
-        for (const double y : g[static_cast<std::size_t>(v)]) {
+      const std::size_t a = static_cast<std::size_t>(f / 2), u = (a + 1) % 3, v = (a + 2) % 3;
+      for (const double x : g[u])
+        for (const double y : g[v]) {
           Eigen::Vector3d q;
-          q[a] = f % 2 ? g[static_cast<std::size_t>(a)].back() : g[static_cast<std::size_t>(a)].front();
-          q[u] = x, q[v] = y;
+          q[static_cast<Eigen::Index>(a)] = f % 2 ? g[a].back() : g[a].front();
+          q[static_cast<Eigen::Index>(u)] = x, q[static_cast<Eigen::Index>(v)] = y;
           const Eigen::Vector3d p = bezier::evaluate(vol, q);
           dev[b] = std::max(dev[b], distance({p[0], p[1], p[2]}));
         }
     }
-  }
+  }, 1);
   return dev;
 }
 
+// Points per element direction of the optimized T-mesh that give Params::deviation_samples per
+// element once it is refined h_refine times (extract's hausdorff_rel grid at its default).
+int deviation_points(const Params& params) { return (params.deviation_samples - 1) * (1 << params.h_refine) + 1; }
+
 }  // namespace
 
-std::vector<double> boundary_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance) {
+std::vector<double> boundary_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance, int points) {
+  if (points < 2) throw core::ConfigError("tmesh::boundary_deviation: at least 2 points per element direction, got " + std::to_string(points));
   int components = 0;
   for (const auto& t : ts) components = std::max(components, t.component + 1);
   std::vector<double> dev(static_cast<std::size_t>(components), 0.0);
-  const std::vector<double> per_block = block_deviation(ts, distance);
+  const std::vector<double> per_block = block_deviation(ts, distance, points);
   for (std::size_t b = 0; b < ts.size(); ++b) dev[static_cast<std::size_t>(ts[b].component)] = std::max(dev[static_cast<std::size_t>(ts[b].component)], per_block[b]);
   return dev;
 }
@@ -459,7 +465,7 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
     for (const double d : per_cube(per_block)) lv.cube_deviation_rel.push_back(d / maps.diagonal);
     lv.deviation_rel = lv.cube_deviation_rel.empty() ? 0.0 : *std::max_element(lv.cube_deviation_rel.begin(), lv.cube_deviation_rel.end());
   };
-  if (measure && !adaptive) record(block_deviation(blocks, maps.surface_distance));
+  if (measure && !adaptive) record(block_deviation(blocks, maps.surface_distance, deviation_points(params)));
   if (adaptive) {
     const double tol = params.epsilon_rel * maps.diagonal;
     std::vector<int> level(nb, params.level);
@@ -482,7 +488,7 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
     // input's own faceting (the volume map's boundary is the triangulated surface, which a smooth
     // spline through its points misses by the facets' sagitta at any level).
     constexpr double kGain = 0.8;
-    std::vector<double> dev = block_deviation(blocks, maps.surface_distance), last;
+    std::vector<double> dev = block_deviation(blocks, maps.surface_distance, deviation_points(params)), last;
     std::vector<int> previous;
     std::vector<char> saturated(nb, 0);
     for (;;) {
@@ -507,6 +513,16 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
           if (next[i] < params.max_level) ++next[i], refine = true;
           else capped = true;
         }
+      // The surface blocks of the same cube that share an edge with a refined one follow it: a
+      // coarser neighbour would keep their common edge at its level (T-junctions), while the
+      // distance there counts for one side only (a slab under a plane sees its bulging edge
+      // curve on the plane, 0; the slab under the cylinder beside it does not).
+      const std::vector<int> raised = next;
+      auto on_surface = [](const TMesh& t) { return std::any_of(t.boundary.begin(), t.boundary.end(), [](int f) { return f != 0; }); };
+      for (std::size_t i = 0; i < nb; ++i)
+        if (raised[i] > level[i])
+          for (const std::size_t j : near[i])
+            if (blocks[j].component == blocks[i].component && on_surface(blocks[j])) next[j] = std::max(next[j], raised[i]);
       if (!refine) {
         lv.stop = capped ? "max_level" : std::any_of(saturated.begin(), saturated.end(), [](char x) { return x != 0; }) ? "no_gain" : "within_epsilon";
         break;
@@ -532,7 +548,7 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
       }
       previous = level, level = next, last = dev;
       ++lv.refinements;
-      dev = block_deviation(blocks, maps.surface_distance);
+      dev = block_deviation(blocks, maps.surface_distance, deviation_points(params));
     }
     record(dev);
     lv.level.assign(cubes, params.level);
@@ -838,11 +854,23 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
   std::vector<char> on_surface(static_cast<std::size_t>(c.nodes), 0), junction(static_cast<std::size_t>(c.nodes), 0);
   std::vector<std::set<int>> nb(static_cast<std::size_t>(c.nodes));
   std::vector<char> named(static_cast<std::size_t>(c.nodes), 0);  // named by a T-junction's row: on a face between levels
+  std::vector<Vec3> position(static_cast<std::size_t>(c.nodes), Vec3{0, 0, 0});
+  // A T-junction whose row weighs one coarser node by more than a half is that node's point in
+  // the finer net (knot insertion's vertex point: 6/8 per direction across a face, (6/8)^2 on it);
+  // its links in the finer net are that node's links toward the finer side.
+  // Where several do (near a clamped end), the one that weighs it most.
+  std::vector<int> twin(static_cast<std::size_t>(c.nodes), -1);  // per node, its point in the finer net
+  std::vector<double> twin_weight(static_cast<std::size_t>(c.nodes), 0.5 + 1e-9);
   for (std::size_t b = 0; b < ts.size(); ++b)
     for (const auto& k : ts[b].constraints) {
-      junction[static_cast<std::size_t>(ids[b][static_cast<std::size_t>(k.point)])] = 1;
-      for (const int m : k.ids)
-        if (m >= 0 && m < c.nodes) named[static_cast<std::size_t>(m)] = 1;
+      const int u = ids[b][static_cast<std::size_t>(k.point)];
+      junction[static_cast<std::size_t>(u)] = 1;
+      for (std::size_t r = 0; r < k.ids.size(); ++r) {
+        const int m = k.ids[r];
+        if (m < 0 || m >= c.nodes) continue;
+        named[static_cast<std::size_t>(m)] = 1;
+        if (k.weights[r] > twin_weight[static_cast<std::size_t>(m)]) twin_weight[static_cast<std::size_t>(m)] = k.weights[r], twin[static_cast<std::size_t>(m)] = u;
+      }
     }
   for (std::size_t b = 0; b < ts.size(); ++b) {
     const TMesh& t = ts[b];
@@ -852,6 +880,7 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
           const int idx[3] = {i, j, k};
           const auto at = static_cast<std::size_t>(i + t.size[0] * (j + t.size[1] * k));
           const int id = ids[b][at];
+          position[static_cast<std::size_t>(id)] = t.control_points[at];
           for (int a = 0; a < 3; ++a)
             for (int side = 0; side < 2; ++side)
               if (t.boundary[2 * a + side] && idx[a] == (side ? t.size[a] - 1 : 0)) on_surface[static_cast<std::size_t>(id)] = 1;
@@ -901,8 +930,28 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
       }
     }
   }
+  // Links of T-junctions that are a node's point in the finer net go to that node, except those
+  // along a link it has (a coarser and a finer link along a face between levels are one).
+  std::vector<std::set<int>> links = nb;
+  auto direction = [&](int from, int to) {
+    const Vec3& x = position[static_cast<std::size_t>(from)];
+    const Vec3& y = position[static_cast<std::size_t>(to)];
+    const Eigen::Vector3d e(y[0] - x[0], y[1] - x[1], y[2] - x[2]);
+    return e.norm() > 0 ? Eigen::Vector3d(e.normalized()) : Eigen::Vector3d::Zero();
+  };
+  std::vector<char> twinned(static_cast<std::size_t>(c.nodes), 0);
   for (int v = 0; v < c.nodes; ++v) {
-    const auto& n = nb[static_cast<std::size_t>(v)];
+    const int u = twin[static_cast<std::size_t>(v)];
+    if (u < 0) continue;
+    twinned[static_cast<std::size_t>(v)] = 1;
+    auto& l = links[static_cast<std::size_t>(v)];
+    for (const int w : nb[static_cast<std::size_t>(u)]) {
+      const Eigen::Vector3d d = direction(u, w);  // in the finer net's own frame
+      if (w != v && d.norm() > 0 && std::none_of(l.begin(), l.end(), [&](int m) { return direction(v, m).dot(d) > 0.9; })) l.insert(w);
+    }
+  }
+  for (int v = 0; v < c.nodes; ++v) {
+    const auto& n = links[static_cast<std::size_t>(v)];
     if (n.empty()) continue;  // an id no block uses
     if (junction[static_cast<std::size_t>(v)]) {  // a T-junction: on a face or an edge of the coarser net, neither regular nor irregular
       ++c.t_junctions;
@@ -910,7 +959,11 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
       continue;
     }
     if (named[static_cast<std::size_t>(v)]) ++c.level_interface;
-    const int extra = static_cast<int>(across[static_cast<std::size_t>(v)].size());
+    // Across a face toward a finer level: the finer net's links at the node's point there, else
+    // (no vertex point) one per direction where the node links no node that way already.
+    const int extra = twinned[static_cast<std::size_t>(v)] ? 0 : static_cast<int>(std::count_if(across[static_cast<std::size_t>(v)].begin(), across[static_cast<std::size_t>(v)].end(), [&](const Eigen::Vector3d& d) {
+      return std::none_of(n.begin(), n.end(), [&](int w) { return direction(v, w).dot(d) > 0.9; });
+    }));
     if (on_surface[static_cast<std::size_t>(v)]) {
       ++c.surface;
       int on = extra;

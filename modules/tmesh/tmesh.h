@@ -72,16 +72,22 @@ struct Params {
   std::string pillow_thickness = "physical";
   /// Adaptive levels (Liu et al. §5.1): a block on the surface goes one level finer while its
   /// boundary faces deviate from the input surface by more than `epsilon_rel` × the surface's
-  /// bounding-box diagonal (sampled at element corners and midpoints, before optimization), up to
+  /// bounding-box diagonal (sampled as `deviation_samples` says, before optimization), up to
   /// `max_level` and while a level lowers its deviation by a fifth at least (Levels::stop);
   /// blocks that share a point differ by at most one level (2:1). 0 = every block at `level`
   /// [0, 1] (dimensionless).
   double epsilon_rel = 0.005;
+  /// Points per direction on each boundary element face of the output T-mesh (after h_refine)
+  /// where the adaptive levels measure the deviation, corners included: 8 is extract's
+  /// hausdorff_rel grid (extract.boundary_samples), so a level within epsilon_rel here is within it
+  /// there before optimization (3, corners and midpoints, missed the rod's 0.0057 at 0.0050) [2, 64].
+  int deviation_samples = 8;
   /// The finest level adaptivity may reach; at or below `level` there is no refinement [1, 7].
   int max_level = 4;
   /// What adaptivity refines: "boundary" (the blocks with a face on the surface — the pillow
-  /// slabs, the boundary elements of §5.1 — each by its own deviation, the others only as 2:1
-  /// asks) or "cube" (every block of a cube one level, its finest).
+  /// slabs, the boundary elements of §5.1 — each by its own deviation, with the surface blocks of
+  /// its cube that share an edge with it, the others only as 2:1 asks) or "cube" (every block of
+  /// a cube one level, its finest).
   std::string refine = "boundary";
   /// h-refinement after optimization (h_refine()): every element split in eight this many times
   /// by knot insertion — the same spline (geometry, Jacobian, validity) on 8^h_refine times the
@@ -202,9 +208,10 @@ std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, cons
                             std::vector<int>* parent = nullptr);
 
 /// Per cube (TMesh::component), the largest distance `distance` gives at the boundary faces of
-/// its blocks, sampled at every element's corners and edge and face midpoints; 0 for a cube
-/// without boundary faces. Indexed by component (size: the largest component + 1).
-std::vector<double> boundary_deviation(const std::vector<TMesh>& t, const std::function<double(const Vec3&)>& distance);
+/// its blocks, sampled on a uniform grid of `points` per direction on every element face, corners
+/// included (`distance` is called from several threads); 0 for a cube without boundary faces.
+/// Indexed by component (size: the largest component + 1). Throws core::ConfigError for points < 2.
+std::vector<double> boundary_deviation(const std::vector<TMesh>& t, const std::function<double(const Vec3&)>& distance, int points = 8);
 
 /// One block by interpolation of `map` (block parameters -> physical) at its Greville points.
 TMesh build_block(const PointMap& map, int degree, const std::array<int, 3>& elements);

@@ -85,9 +85,12 @@ TEST(Config, SlideSurfaceKeys) {
   // Adaptive levels: documented defaults are the library's, round trip, ranges.
   EXPECT_DOUBLE_EQ(file.tmesh.epsilon_rel, tmesh::Params{}.epsilon_rel);
   EXPECT_EQ(file.tmesh.max_level, tmesh::Params{}.max_level);
-  const auto lv = config::parse_config(config::to_yaml(config::parse_config("tmesh: {epsilon_rel: 0.001, max_level: 5}\n", "t")), "emitted");
+  EXPECT_EQ(file.tmesh.deviation_samples, tmesh::Params{}.deviation_samples);
+  const auto lv = config::parse_config(config::to_yaml(config::parse_config("tmesh: {epsilon_rel: 0.001, max_level: 5, deviation_samples: 3}\n", "t")), "emitted");
   EXPECT_DOUBLE_EQ(lv.tmesh.epsilon_rel, 0.001);
   EXPECT_EQ(lv.tmesh.max_level, 5);
+  EXPECT_EQ(lv.tmesh.deviation_samples, 3);
+  EXPECT_NE(config_error("tmesh: {deviation_samples: 1}\n").find("tmesh.deviation_samples"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {epsilon_rel: -0.1}\n").find("tmesh.epsilon_rel"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {max_level: 8}\n").find("tmesh.max_level"), std::string::npos);
   EXPECT_EQ(file.tmesh.refine, tmesh::Params{}.refine);
@@ -135,7 +138,7 @@ TEST(Config, EmittedYamlParsesBackToTheSameConfig) {
 
 TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("test.yaml: unknown key 'tmesh.levle'"), std::string::npos);
-  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, epsilon_rel, grid_points, h_refine, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, deviation_samples, epsilon_rel, grid_points, h_refine, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
   EXPECT_NE(config_error("clasify: {}\n").find("unknown key 'clasify'"), std::string::npos);
   EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
 }

@@ -1,8 +1,12 @@
-// core::parallel_for and core::ThreadPool: every item once, on any number of threads; errors reach the caller.
+// core::parallel_for, core::ThreadPool and core::parallel_tasks: every item once, on any number of
+// threads; errors reach the caller; tasks' logs read in task order.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <chrono>
 #include <stdexcept>
+#include <string>
+#include <thread>
 #include <vector>
 
 #include "core/parallel.h"
@@ -52,6 +56,61 @@ TEST(ThreadPool, RethrowsAnItemsExceptionAndStaysUsable) {
   std::vector<int> hits(100, 0);
   pool.for_each(100, [&](std::size_t i) { ++hits[i]; }, 1);
   for (const int h : hits) EXPECT_EQ(h, 1);
+}
+
+// Each task logs three lines with pauses between them, the later tasks faster, so on several
+// threads the lines interleave unless they are held back: the log must be task 0's lines, then
+// task 1's, ... for any thread count; every task runs even when one throws, and the first
+// failing task's exception (in task order) is the one the caller gets.
+TEST(ParallelTasks, LogsInTaskOrderAndTheFirstFailureWins) {
+  for (const char* threads : {"1", "2", "4"}) {
+    setenv("VOLTS_THREADS", threads, 1);
+    std::vector<int> ran(4, 0);
+    std::vector<std::function<void()>> tasks;
+    for (int t = 0; t < 4; ++t)
+      tasks.push_back([&ran, t] {
+        for (int line = 0; line < 3; ++line) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(2 * (4 - t)));
+          log("task " + std::to_string(t) + " line " + std::to_string(line));
+        }
+        ++ran[static_cast<std::size_t>(t)];
+        if (t == 1 || t == 3) throw std::runtime_error("task " + std::to_string(t));
+      });
+    testing::internal::CaptureStderr();
+    std::string what;
+    try {
+      parallel_tasks(tasks);
+    } catch (const std::runtime_error& e) {
+      what = e.what();
+    }
+    const std::string log = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(what, "task 1") << threads << " threads";
+    EXPECT_EQ(ran, std::vector<int>(4, 1)) << threads << " threads";
+    std::string expected;
+    for (int t = 0; t < 4; ++t)
+      for (int line = 0; line < 3; ++line) expected += "[volts] task " + std::to_string(t) + " line " + std::to_string(line) + "\n";
+    EXPECT_EQ(log, expected) << threads << " threads";
+  }
+  unsetenv("VOLTS_THREADS");
+}
+
+// A capture inside a capture hands its lines to the outer one, which prints them in place.
+TEST(LogCapture, NestsAndReleases) {
+  testing::internal::CaptureStderr();
+  std::string outer_lines;
+  {
+    LogCapture outer;
+    log("a");
+    {
+      LogCapture inner;
+      log("b");
+    }
+    log("c");
+    outer_lines = outer.release();
+    log("d");
+  }
+  EXPECT_EQ(outer_lines, "[volts] a\n[volts] b\n[volts] c\n");
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "[volts] d\n");
 }
 
 }  // namespace
