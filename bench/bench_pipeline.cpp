@@ -67,12 +67,12 @@ const std::vector<Model>& all_models() {
       // Adaptive levels (tmesh.epsilon_rel): the slabs whose boundary misses the surface by more
       // than 0.002 of the diagonal one level finer, T-junctions where levels differ.
       {"eight-adaptive", "", "cfwen_eight.off", 24, &kEight, 0.4, "tmesh: {epsilon_rel: 0.002}"},
-      // examples/rod.yaml: split.genus2 auto cuts the shank near its eyes (0.85) where 0.5 fails,
-      // its small end on the shoulder; optimized at level 3 (max_level 4) and refined to 4: at
-      // least the paper's element count, every trilinear T-mesh element positive (session 33).
-      {"rod", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {level: 4, max_level: 5}"},
-      // The defaults: optimized at level 2, refined to 3 (Bezier 0.477 but a trilinear fold).
-      {"rod-default", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4},
+      // Defaults (examples/rod.yaml, since session 33): split.genus2 auto cuts the shank near its
+      // eyes (0.85) where 0.5 fails, its small end on the shoulder; optimized at level 2, the
+      // connector's surface at 3, refined once.
+      {"rod", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4},
+      // At least the paper's element count: optimized at level 3 (max_level 4), refined to 4.
+      {"rod-level4", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {level: 4, max_level: 5}"},
       {"tube", "", "vhacd_tube1.off", 24, nullptr},
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},
