@@ -371,6 +371,39 @@ TEST(Pipeline, EightRunsEndToEndWithEveryElementValid) {
   EXPECT_LT(x["volume_rel_error"].get<double>(), 0.005);
 }
 
+TEST(Pipeline, RodRunsEndToEndAtTheDefaults) {
+  // Issues 7 and 8 on the connecting rod (loopycuts_rod_rem, examples/rod.yaml: the defaults):
+  // every Bézier element certified valid, worst scaled Jacobian at least 0.4, every T-mesh
+  // element positive as a trilinear hex, boundary and volume within 0.005. Measured (session 33):
+  // 12,960 elements, 0.477, trilinear +0.116 after the pass on the refined net (-0.10 before),
+  // hausdorff_rel 0.0043, volume error 0.0033; ~2 min.
+  const fs::path d = test::fresh_dir("pipeline", "rod_run");
+  test::write_text(d / "run.yaml", "input: {file: " + std::string(VOLTS_SHARED_MODELS) + "/loopycuts_rod_rem.obj}\nextract: {exports: [vtu]}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const core::Json rep = core::read_report((d / "w").string());
+  EXPECT_EQ(rep["stages"]["split"]["genus2"], "connector");
+  const core::Json& t = rep["stages"]["tmesh"];
+  EXPECT_EQ(t["h_refine"], 1);
+  EXPECT_GT(t["levels"]["refined_blocks"].get<int>(), 0) << "epsilon_rel refines where the level-2 boundary misses hausdorff_rel";
+  EXPECT_GT(t["min_scaled_jacobian_after"].get<double>(), 0) << "a T-mesh element folds as a trilinear hex";
+  const core::Json& pass = t["optimization"]["refined_trilinear_pass"];
+  if (!pass.is_null()) {
+    EXPECT_LT(pass["trilinear_before"].get<double>(), 0);
+    EXPECT_GT(pass["trilinear_after"].get<double>(), 0);
+    EXPECT_EQ(pass["not_certified_valid_after"], 0);
+  }
+  const core::Json& x = rep["stages"]["extract"];
+  EXPECT_EQ(x["certified_valid"], x["bezier_elements"]);
+  EXPECT_EQ(x["undecided"], 0);
+  EXPECT_GE(x["min_scaled_jacobian"].get<double>(), 0.4);
+  EXPECT_LE(x["hausdorff_rel"].get<double>(), 0.005);
+  EXPECT_LE(x["volume_rel_error"].get<double>(), 0.005);
+  // epsilon_rel's deviation is extract's hausdorff grid: it bounds hausdorff_rel before
+  // optimization, and sliding kept the boundary on the surface.
+  EXPECT_LE(x["hausdorff_rel"].get<double>(), t["levels"]["boundary_deviation_rel"].get<double>() * 1.05);
+}
+
 TEST(Pipeline, EightRefinesTheCubesFarFromItsSurfaceWithTJunctions) {
   // Adaptive levels (tmesh.epsilon_rel, Liu et al. §5.1) on the eight at level 2 (short): first
   // without refinement (max_level 2: the deviation per cube is measured), then with max_level 3
