@@ -139,17 +139,24 @@ TEST(Levels, ConstraintsSurviveJsonAndAreChecked) {
   EXPECT_THROW(tmesh::from_json(j, "bad.json"), core::InvalidInputError);
 }
 
+// A ring whose surface, seen from cube 0's sector, lies 1e6 times as far as it does (a distance
+// that still shrinks with every level, by the spline's h^4): adaptivity refines there first.
+tmesh::PolycubeMaps ring_far_at_cube0(int k) {
+  tmesh::PolycubeMaps maps = ring(k);
+  maps.diagonal = 2 * kOuter;
+  maps.surface_distance = [](const Vec3& x) {
+    const double t = std::atan2(x[1], x[0]);
+    return (t < -0.05 && t > -0.5 ? 1e6 : 1.0) * ring_distance(x);
+  };
+  return maps;
+}
+
 // One cube whose boundary counts as far too far from the surface (its distance scaled by 1e6,
 // so each level still lowers it, by the spline's h^4): it is refined to max_level and the cubes
 // around it follow with at most one level less each (2:1).
 TEST(Levels, RefinementKeepsTwoToOneBalanceBetweenCubesThatTouch) {
   for (int k = 4; k <= 6; ++k) {
-    tmesh::PolycubeMaps maps = ring(k);
-    maps.diagonal = 2 * kOuter;
-    maps.surface_distance = [](const Vec3& x) {
-      const double t = std::atan2(x[1], x[0]);
-      return (t < -0.05 && t > -0.5 ? 1e6 : 1.0) * ring_distance(x);
-    };
+    const tmesh::PolycubeMaps maps = ring_far_at_cube0(k);
     tmesh::Params p;
     p.level = 1;
     p.max_level = 4;
@@ -251,12 +258,7 @@ TEST(Levels, DenserDeviationGridsSeeMoreAndConverge) {
 // each) with its top slab and the four beside it one level finer than the bottom one.
 TEST(Levels, IrregularSurfaceNodesDoNotChangeWithLevels) {
   for (int k = 4; k <= 6; ++k) {
-    tmesh::PolycubeMaps maps = ring(k);
-    maps.diagonal = 2 * kOuter;
-    maps.surface_distance = [](const Vec3& x) {
-      const double t = std::atan2(x[1], x[0]);
-      return (t < -0.05 && t > -0.5 ? 1e6 : 1.0) * ring_distance(x);
-    };
+    const tmesh::PolycubeMaps maps = ring_far_at_cube0(k);
     tmesh::Params p;
     p.level = 1;
     p.max_level = 3;
