@@ -184,7 +184,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
       tp.sweeps = 0, tp.joint_rounds = 0, tp.cycles = 1;
       tp.grid_points = 2;  // the floor it keeps is extract's figure (corners and Gauss points) of the refined elements
       const tmesh::OptimizeResult tr = tmesh::optimize(ts, tp, nullptr);
-      opt.element_after = tr.element_after;
+      opt.element_after = tr.element_after;  // the pass's sample (corners and Gauss points) from here on
       refined_pass = {{"trilinear_before", tr.trilinear_before}, {"trilinear_after", tr.trilinear_after},
                       {"nodes_moved", tr.trilinear_nodes_moved}, {"bezier_min_scaled_jacobian_after", tr.min_after},
                       {"not_certified_valid_after", tr.invalid_after}};
