@@ -848,6 +848,42 @@ void for_each_trilinear_element(const TMesh& t, F&& f) {
 
 }  // namespace
 
+namespace {
+
+// Irregular surface nodes are block corners: inside a block's surface face, and along an edge
+// two surface faces share, every node has four surface neighbours at any level. A corner's
+// valence is the number of surface block edges (edges of a block face on the surface) that
+// leave it, matched across blocks and levels by the corner control points (clamped, so they
+// interpolate the spline: the same point in every block that has it).
+int irregular_surface_corners(const std::vector<TMesh>& ts) {
+  double extent = 0;
+  for (const TMesh& t : ts)
+    for (const Vec3& x : t.control_points) extent = std::max({extent, std::abs(x[0]), std::abs(x[1]), std::abs(x[2])});
+  const double cell = 1e-9 * std::max(extent, 1e-300);
+  using Key = std::array<long long, 3>;
+  auto key = [&](const Vec3& x) { return Key{std::llround(x[0] / cell), std::llround(x[1] / cell), std::llround(x[2] / cell)}; };
+  std::map<Key, std::set<Key>> edges;
+  for (const TMesh& t : ts)
+    for (int corner = 0; corner < 8; ++corner) {
+      std::array<int, 3> idx{}, side{};
+      for (std::size_t a = 0; a < 3; ++a) side[a] = (corner >> a) & 1, idx[a] = side[a] * (t.size[a] - 1);
+      auto point = [&](const std::array<int, 3>& i) { return t.control_points[static_cast<std::size_t>(i[0] + t.size[0] * (i[1] + t.size[1] * i[2]))]; };
+      auto on = [&](std::size_t a) { return t.boundary[2 * a + static_cast<std::size_t>(side[a])] != 0; };  // the face of axis a at this corner
+      if (!on(0) && !on(1) && !on(2)) continue;
+      const Key x = key(point(idx));
+      for (std::size_t a = 0; a < 3; ++a) {
+        if (!on((a + 1) % 3) && !on((a + 2) % 3)) continue;  // the edge along axis a lies on no surface face
+        std::array<int, 3> other = idx;
+        other[a] = t.size[a] - 1 - idx[a];
+        const Key y = key(point(other));
+        if (y != x) edges[x].insert(y);
+      }
+    }
+  return static_cast<int>(std::count_if(edges.begin(), edges.end(), [](const auto& e) { return e.second.size() != 4; }));
+}
+
+}  // namespace
+
 NodeCounts count_nodes(const std::vector<TMesh>& ts) {
   NodeCounts c;
   const auto ids = global_ids(ts, &c.nodes);
@@ -966,13 +1002,11 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
     }));
     if (on_surface[static_cast<std::size_t>(v)]) {
       ++c.surface;
-      int on = extra;
-      for (const int w : n) on += on_surface[static_cast<std::size_t>(w)];
-      if (on != 4) ++c.irregular_surface;
     } else if (static_cast<int>(n.size()) + extra != 6) {
       ++c.irregular_interior;
     }
   }
+  c.irregular_surface = irregular_surface_corners(ts);
   return c;
 }
 

@@ -236,10 +236,12 @@ TMesh from_json(const core::Json& j, const std::string& file);
 core::Json report_figures(const std::vector<TMesh>& t, double min_sj_before, double min_sj_after);
 
 /// Node counts of the control mesh (nodes = functions + T-junctions): a surface node is irregular
-/// if its number of neighbours on the surface is not 4, an interior node if its number of
-/// neighbours is not 6; T-junctions are neither; a node on a face toward a finer level counts one
-/// neighbour more per direction across such faces (the T-junction there, which its own net does
-/// not link).
+/// if its number of neighbours on the surface is not 4 — only block corners can be, and their
+/// valence is the number of surface block edges that leave them, whatever the levels —, an
+/// interior node if its number of neighbours is not 6; T-junctions are neither; a node on a face
+/// toward a finer level takes the links of its vertex point in the finer net (a T-junction whose
+/// row weighs it by more than a half), else counts one neighbour more per direction across such
+/// faces that it does not link.
 struct NodeCounts {
   int nodes = 0, surface = 0, irregular_surface = 0, irregular_interior = 0, t_junctions = 0;
   int level_interface = 0;  ///< nodes named by T-junction rows (on faces toward a finer level)

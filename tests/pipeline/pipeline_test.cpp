@@ -387,6 +387,9 @@ TEST(Pipeline, RodRunsEndToEndAtTheDefaults) {
   EXPECT_EQ(t["h_refine"], 1);
   EXPECT_GT(t["levels"]["refined_blocks"].get<int>(), 0) << "epsilon_rel refines where the level-2 boundary misses hausdorff_rel";
   EXPECT_GT(t["min_scaled_jacobian_after"].get<double>(), 0) << "a T-mesh element folds as a trilinear hex";
+  // The eyes' and the shoulder's block corners, as unrefined (h_refine 0: 16); the connector's
+  // refined slabs meet the eye with T-junctions around them.
+  EXPECT_EQ(t["irregular_nodes_surface"], 16);
   const core::Json& pass = t["optimization"]["refined_trilinear_pass"];
   if (!pass.is_null()) {
     EXPECT_LT(pass["trilinear_before"].get<double>(), 0);
