@@ -846,10 +846,6 @@ void for_each_trilinear_element(const TMesh& t, F&& f) {
       }
 }
 
-}  // namespace
-
-namespace {
-
 // Irregular surface nodes are block corners: inside a block's surface face, and along an edge
 // two surface faces share, every node has four surface neighbours at any level. A corner's
 // valence is the number of surface block edges (edges of a block face on the surface) that
