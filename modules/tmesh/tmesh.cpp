@@ -387,6 +387,8 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const s
 
 namespace {
 
+bool has_surface_face(const TMesh& t) { return std::any_of(t.boundary.begin(), t.boundary.end(), [](int f) { return f != 0; }); }
+
 // Per block of ts: the largest distance at its boundary faces (0 without one), on a uniform grid
 // of `points` per element direction (corners included). Blocks in parallel: the distance is a
 // const query (an AABB tree).
@@ -394,7 +396,7 @@ std::vector<double> block_deviation(const std::vector<TMesh>& ts, const std::fun
   std::vector<double> dev(ts.size(), 0.0);
   core::parallel_for(ts.size(), [&](std::size_t b) {
     const TMesh& t = ts[b];
-    if (std::none_of(t.boundary.begin(), t.boundary.end(), [](int f) { return f != 0; })) return;
+    if (!has_surface_face(t)) return;
     bezier::TensorBSplineVolume vol;
     vol.degree = {t.degree, t.degree, t.degree};
     vol.knots = t.knots;
@@ -518,11 +520,10 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
       // distance there counts for one side only (a slab under a plane sees its bulging edge
       // curve on the plane, 0; the slab under the cylinder beside it does not).
       const std::vector<int> raised = next;
-      auto on_surface = [](const TMesh& t) { return std::any_of(t.boundary.begin(), t.boundary.end(), [](int f) { return f != 0; }); };
       for (std::size_t i = 0; i < nb; ++i)
         if (raised[i] > level[i])
           for (const std::size_t j : near[i])
-            if (blocks[j].component == blocks[i].component && on_surface(blocks[j])) next[j] = std::max(next[j], raised[i]);
+            if (blocks[j].component == blocks[i].component && has_surface_face(blocks[j])) next[j] = std::max(next[j], raised[i]);
       if (!refine) {
         lv.stop = capped ? "max_level" : std::any_of(saturated.begin(), saturated.end(), [](char x) { return x != 0; }) ? "no_gain" : "within_epsilon";
         break;
