@@ -138,7 +138,9 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
     op.grid_points = params.grid_points;
     op.joint_sharpness = params.joint_sharpness;
     op.joint_window = params.joint_window;
-    op.slide_from_start = params.slide_from == "start";
+    op.slide_from = params.slide_from == "start"   ? tmesh::OptimizeParams::SlideFrom::start
+                    : params.slide_from == "valid" ? tmesh::OptimizeParams::SlideFrom::valid
+                                                   : tmesh::OptimizeParams::SlideFrom::stall;
     op.slide_sharp_curves = params.slide_sharp_curves;
     // Optimize the figure extract reports: its Gauss points (0 = degree + 1) and the corners.
     op.gauss_points = ctx.config.extract.gauss_points > 0 ? ctx.config.extract.gauss_points : params.degree + 1;

@@ -233,7 +233,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("joint_sharpness", c.tmesh.joint_sharpness, 1e-3, 1000.0);
     s.get("joint_window", c.tmesh.joint_window, 0.0, 1.0);
     s.get("slide_surface", c.tmesh.slide_surface);
-    s.get("slide_from", c.tmesh.slide_from, {"stall", "start"});
+    s.get("slide_from", c.tmesh.slide_from, {"stall", "start", "valid"});
     s.get("slide_sharp_curves", c.tmesh.slide_sharp_curves);
     s.get("rim_pillow_lenses", c.tmesh.rim_pillow_lenses);
     s.get("pillow_thickness", c.tmesh.pillow_thickness, {"physical", "parametric"});

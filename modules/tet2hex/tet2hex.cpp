@@ -338,7 +338,7 @@ void optimize_hexes(Result& r, const Mesh& surface, const std::vector<std::array
   op.gauss_points = gauss_points;  // the figure measured below
   // Sliding from the first round: the worst hexes of the tet route lie at the surface (on the
   // assembly, fixed-surface rounds were all refused: 50 of 150 s for nothing).
-  op.slide_from_start = true;
+  op.slide_from = tmesh::OptimizeParams::SlideFrom::start;
   // The sweeps slide too: on the assembly they raise the joint rounds' 0.169 to 0.197 in 5 s
   // (alone, without joint rounds: 0.072 in 55 s).
   op.sweep_slide = true;

@@ -724,8 +724,10 @@ void tri_samples(const std::vector<Eigen::Vector3d>& x, int p, const OptimizePar
 // step can. Where the step costs an element its certificate (or its figure falls below the worst
 // one), the nodes of that element go back (see the acceptance below).
 void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, core::ThreadPool& pool,
-                 const OptimizeParams& params, const SlideSurface* surface, OptimizeResult& r) {
+                 const OptimizeParams& params, const SlideSurface* surface, OptimizeResult& r, bool until_valid = false) {
   const bezier::CertifyParams cp;
+  auto all_valid = [&q] { return std::all_of(q.begin(), q.end(), [](const Quality& x) { return x.valid; }); };
+  if (until_valid && all_valid()) return;
   double window = 0;  // > 0: only elements within it of the worst figure (OptimizeParams::joint_window)
   std::vector<int> refused_ids;  // the variables of the last refused round
   for (int round = 0; round < params.joint_rounds; ++round) {
@@ -1041,7 +1043,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     refused_ids.clear();  // the nodes moved: the same selection is a new problem
     const bool progress = (invalid_before > 0 && invalid_before - invalid >= std::max(1.0, params.min_fixed_rel * invalid_before)) ||
                           after >= before + params.min_gain || (tri_gain && best.tri >= tri_before + params.min_gain);
-    if (!progress) return;
+    if (!progress || (until_valid && all_valid())) return;
   }
 }
 
@@ -1312,9 +1314,9 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     if (params.sweeps > 0 && cycle == 0) {
       // Surface nodes fixed first, then (given the surface) sliding from where those rounds stopped:
       // every kept round raises the worst figure, so sliding can only add to the fixed result.
-      if (!surface || !params.slide_from_start) {
+      if (!surface || params.slide_from != OptimizeParams::SlideFrom::start) {
         core::LogSection phase("joint rounds");
-        joint_phase(s, q, samples, pool, params, nullptr, r);
+        joint_phase(s, q, samples, pool, params, nullptr, r, surface && params.slide_from == OptimizeParams::SlideFrom::valid);
       }
       if (surface) {
         core::LogSection phase("sliding rounds (joint rounds with surface nodes along the surface)");

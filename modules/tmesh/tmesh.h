@@ -57,9 +57,9 @@ struct Params {
   /// The joint rounds slide surface nodes along the input surface where no sharp edge is within
   /// their reach (optimize(); Liu et al. §5.2 "surface nodes on the surface"); false = fixed.
   bool slide_surface = true;
-  /// When they start sliding: "stall" (once the rounds with fixed surface nodes stop) or "start"
-  /// (OptimizeParams::slide_from_start).
-  std::string slide_from = "stall";
+  /// When they start sliding: "stall" (once the rounds with fixed surface nodes stop), "start" or
+  /// "valid" (once every element is certified valid) (OptimizeParams::slide_from).
+  std::string slide_from = "valid";
   /// Surface nodes on sharp curves slide along them too, away from sharp corners
   /// (OptimizeParams::slide_sharp_curves).
   bool slide_sharp_curves = false;

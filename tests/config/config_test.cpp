@@ -69,13 +69,13 @@ TEST(Config, JointOptimizationAndConnectorSmoothingKeys) {
   EXPECT_NE(config_error("tmesh: {joint_rounds: 101}\n").find("tmesh.joint_rounds: 101 is out of range [0, 100]"), std::string::npos);
 }
 
-// Surface sliding: on by default, sliding once the fixed rounds stop (the library's default too);
-// "start" survives the round trip, and an unknown mode is refused naming the key.
+// Surface sliding: on by default, sliding once every element is certified valid (the library's
+// default too); "start" survives the round trip, and an unknown mode is refused naming the key.
 TEST(Config, SlideSurfaceKeys) {
   const config::Config file = config::load_config(std::string(VOLTS_SOURCE_DIR) + "/configs/default.yaml");
   EXPECT_TRUE(file.tmesh.slide_surface);
-  EXPECT_EQ(file.tmesh.slide_from, "stall");
-  EXPECT_FALSE(tmesh::OptimizeParams{}.slide_from_start);
+  EXPECT_EQ(file.tmesh.slide_from, "valid");
+  EXPECT_EQ(tmesh::OptimizeParams{}.slide_from, tmesh::OptimizeParams::SlideFrom::valid);
   EXPECT_EQ(file.tmesh.slide_sharp_curves, tmesh::OptimizeParams{}.slide_sharp_curves);
   EXPECT_TRUE(file.tmesh.rim_pillow_lenses);
   EXPECT_EQ(file.tmesh.pillow_thickness, "physical");
