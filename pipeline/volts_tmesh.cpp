@@ -136,6 +136,8 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
     op.trilinear_guard = params.trilinear_guard;
     op.joint_evaluations = params.joint_evaluations;
     op.grid_points = params.grid_points;
+    op.check_points = params.check_points;
+    op.check_tolerance = params.check_tolerance;
     op.joint_sharpness = params.joint_sharpness;
     op.joint_window = params.joint_window;
     op.slide_from = params.slide_from == "start"   ? tmesh::OptimizeParams::SlideFrom::start
@@ -212,7 +214,9 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
                          {"not_certified_valid_before", opt.invalid_before}, {"not_certified_valid_after", opt.invalid_after},
                          {"stop_reason", opt.stop_reason}, {"sweeps_cut_at_node_bound", opt.sweeps_cut_at_node_bound},
                          {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds}, {"cycles", opt.cycles},
-                         {"surface_nodes_slid", opt.surface_nodes_slid}, {"worst_blocks", worst}};
+                         {"surface_nodes_slid", opt.surface_nodes_slid}, {"elements_on_check_grid", opt.elements_on_check_grid},
+                         {"bezier_min_scaled_jacobian_after_checked", opt.min_after_checked},
+                         {"worst_blocks", worst}};
   fig["optimization"]["refined_trilinear_pass"] = refined_pass;
   fig["h_refine"] = params.h_refine;
   fig["level_optimized"] = params.level;

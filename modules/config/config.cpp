@@ -230,6 +230,9 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("trilinear_guard", c.tmesh.trilinear_guard);
     s.get("joint_evaluations", c.tmesh.joint_evaluations, 1, 100000);
     s.get("grid_points", c.tmesh.grid_points, 2, 8);
+    s.get("check_points", c.tmesh.check_points, 0, 32);
+    if (c.tmesh.check_points == 1) throw core::ConfigError(source + ": tmesh.check_points: must be 0 (no check) or in [2, 32], got 1");
+    s.get("check_tolerance", c.tmesh.check_tolerance, 0.0, 1.0);
     s.get("joint_sharpness", c.tmesh.joint_sharpness, 1e-3, 1000.0);
     s.get("joint_window", c.tmesh.joint_window, 0.0, 1.0);
     s.get("slide_surface", c.tmesh.slide_surface);
@@ -419,6 +422,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "trilinear_guard" << YAML::Value << c.tmesh.trilinear_guard;
   e << YAML::Key << "joint_evaluations" << YAML::Value << c.tmesh.joint_evaluations;
   e << YAML::Key << "grid_points" << YAML::Value << c.tmesh.grid_points;
+  e << YAML::Key << "check_points" << YAML::Value << c.tmesh.check_points;
+  e << YAML::Key << "check_tolerance" << YAML::Value << c.tmesh.check_tolerance;
   e << YAML::Key << "joint_sharpness" << YAML::Value << c.tmesh.joint_sharpness;
   e << YAML::Key << "joint_window" << YAML::Value << c.tmesh.joint_window;
   e << YAML::Key << "slide_surface" << YAML::Value << c.tmesh.slide_surface;

@@ -359,11 +359,35 @@ class AffineSamples {
   mutable std::vector<double> values_;
 };
 
+// An element's figures. Its sample: the Gauss points and a uniform grid of `grid` points per
+// direction, grid_points or, once its field dipped between those, check_points (the check grid).
+// `scaled` is the minimum on its sample, `sampled` on the usual one (grid_points): every move
+// keeps both from falling below the worst before it, so the worst of either never falls.
 struct Quality {
-  double scaled = 0;     // sampled min scaled Jacobian
+  double scaled = 0;     // sampled min scaled Jacobian (on its own sample)
   bool valid = false;    // certified det J > 0
   double trilinear = 1;  // scaled Jacobian of the hex of its corner points (eq. (1)–(2))
+  int grid = 0;          // points per direction of its sample's uniform grid
+  double sampled = 0;    // min scaled Jacobian on the usual sample (= scaled while grid is grid_points)
 };
+
+// The Jacobians of h on the sample of x (x.grid) into js, and x's two sampled figures.
+void sample_figures(const bezier::BezierHex& h, const OptimizeParams& params, Quality& x, std::vector<Eigen::Matrix3d>& js) {
+  js = bezier::jacobian_samples(h, params.gauss_points, x.grid);
+  x.scaled = bezier::summarize_jacobians(js).min_scaled;
+  x.sampled = x.grid == params.grid_points ? x.scaled : bezier::sample_jacobian(h, params.gauss_points, params.grid_points).min_scaled;
+}
+
+// The lowest `scaled` (on each element's own sample) and the lowest `sampled` (the usual sample)
+// over elements `els` of q (all of them if empty).
+std::pair<double, double> worst_figures(const std::vector<Quality>& q, const std::vector<int>& els = {}) {
+  std::pair<double, double> w{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  auto add = [&w](const Quality& x) { w.first = std::min(w.first, x.scaled), w.second = std::min(w.second, x.sampled); };
+  if (els.empty())
+    for (const Quality& x : q) add(x);
+  for (const int e : els) add(q[static_cast<std::size_t>(e)]);
+  return w;
+}
 
 // The interior nodes (global ids) of element e not yet in `visited`, added to it, and with
 // `surface_too` its surface nodes as well (the sliding sweeps): a node is moved once per sweep, for the worst element
@@ -426,8 +450,7 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
     return std::min_element(q.begin(), q.end(), [](const Quality& a, const Quality& b) { return a.trilinear < b.trilinear; }) - q.begin();
   };
   r.trilinear_before = r.trilinear_after = tri(static_cast<std::size_t>(worst_tri()));
-  double floor = std::numeric_limits<double>::infinity();
-  for (const auto& x : q) floor = std::min(floor, x.scaled);
+  const auto [floor, floor_sampled] = worst_figures(q);
   for (int sweep = 0; sweep < params.trilinear_sweeps; ++sweep) {
     std::vector<std::size_t> bad;
     for (std::size_t e = 0; e < s.size(); ++e)
@@ -473,10 +496,10 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
           if (refused) return;
           const std::size_t x = static_cast<std::size_t>(els[k]);
           const bezier::BezierHex hx = s.hex(x);
-          js[k] = bezier::jacobian_samples(hx, params.gauss_points, params.grid_points);
-          now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
+          now[k].grid = q[x].grid;
+          sample_figures(hx, params, now[k], js[k]);
           now[k].valid = bezier::certify(hx, cp).status == bezier::Validity::valid;
-          if (now[k].scaled < floor || !now[k].valid) refused = true;
+          if (now[k].scaled < floor || now[k].sampled < floor_sampled || !now[k].valid) refused = true;
         }, 4);
         if (refused) {
           s.set_position(id, x0);
@@ -781,11 +804,11 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       for (std::size_t e = 0; e < s.size(); ++e)
         if (in[e]) els.push_back(static_cast<int>(e));
     }
-    double before = std::numeric_limits<double>::infinity();
+    const auto [before, before_sampled] = worst_figures(q, els);
     int invalid_before = 0;
     double tri_before = std::numeric_limits<double>::infinity();
     for (const int e : els) {
-      before = std::min(before, q[static_cast<std::size_t>(e)].scaled), invalid_before += q[static_cast<std::size_t>(e)].valid ? 0 : 1;
+      invalid_before += q[static_cast<std::size_t>(e)].valid ? 0 : 1;
       tri_before = std::min(tri_before, q[static_cast<std::size_t>(e)].trilinear);
     }
     std::vector<double> x0(first.back() + width(frame.back())), lower(x0.size()), upper(x0.size());
@@ -827,13 +850,14 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     std::vector<std::vector<Eigen::Matrix3d>> dsj(els.size());
     std::vector<std::vector<Eigen::Vector3d>> dP(els.size());
     // Sample grids per degree, the usual ones and the dense one of elements not certified valid.
-    std::map<std::pair<int, bool>, std::vector<GridAxis>> grids;
+    std::map<std::tuple<int, int, bool>, std::vector<GridAxis>> grids;
     std::vector<const std::vector<GridAxis>*> grids_of(els.size());
     for (std::size_t k = 0; k < els.size(); ++k) {
       const std::size_t e = static_cast<std::size_t>(els[k]);
-      const std::pair<int, bool> key{s.degree_of(e), !q[e].valid};
+      const std::tuple<int, int, bool> key{s.degree_of(e), q[e].grid, !q[e].valid};
       auto it = grids.find(key);
-      if (it == grids.end()) it = grids.emplace(key, joint_grids(key.first, params.gauss_points, params.grid_points, key.second ? params.joint_dense_points : 0)).first;
+      if (it == grids.end())
+        it = grids.emplace(key, joint_grids(s.degree_of(e), params.gauss_points, q[e].grid, !q[e].valid ? std::max(params.joint_dense_points, q[e].grid) : 0)).first;
       grids_of[k] = &it->second;
     }
     // A narrowed round's elements lie within `window` of each other: at the configured sharpness
@@ -980,11 +1004,12 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         pool.for_each(todo.size(), [&](std::size_t i) {
           const std::size_t k = todo[i], e = static_cast<std::size_t>(els[k]);
           const bezier::BezierHex h = s.hex(e);
-          t.js[k] = bezier::jacobian_samples(h, params.gauss_points, params.grid_points);
-          t.now[k].scaled = bezier::summarize_jacobians(t.js[k]).min_scaled;
+          t.now[k].grid = q[e].grid;
+          sample_figures(h, params, t.now[k], t.js[k]);
           t.now[k].valid = bezier::certify(h, cp).status == bezier::Validity::valid;
           t.now[k].trilinear = corner_hex_scaled_jacobian(h);
-          bad[i] = t.now[k].scaled < before || (q[e].valid && !t.now[k].valid) || trilinear_falls(params, q[e], t.now[k]);
+          bad[i] = t.now[k].scaled < before || t.now[k].sampled < before_sampled || (q[e].valid && !t.now[k].valid) ||
+                   trilinear_falls(params, q[e], t.now[k]);
         });
         for (std::size_t i = 0; i < todo.size(); ++i) {
           if (!bad[i]) continue;
@@ -1053,6 +1078,33 @@ void summarize(const std::vector<Quality>& q, double* worst, int* invalid) {
   for (const auto& x : q) *worst = std::min(*worst, x.scaled), *invalid += x.valid ? 0 : 1;
 }
 
+// Certified-valid elements whose field dips between their samples (OptimizeParams::check_points,
+// check_tolerance) are sampled on the check grid from then on; returns how many were switched.
+int sample_dips_densely(const Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, core::ThreadPool& pool,
+                        const OptimizeParams& params) {
+  if (params.check_points < 2) return 0;
+  std::vector<std::vector<Eigen::Matrix3d>> dense(s.size());
+  std::vector<double> figure(s.size(), std::numeric_limits<double>::infinity());
+  pool.for_each(s.size(), [&](std::size_t e) {
+    if (!q[e].valid || q[e].grid >= params.check_points) return;
+    std::vector<Eigen::Matrix3d> js = bezier::jacobian_samples(s.hex(e), params.gauss_points, params.check_points);
+    const double m = bezier::summarize_jacobians(js).min_scaled;
+    if (m < params.target && m < q[e].scaled - params.check_tolerance) figure[e] = m, dense[e] = std::move(js);
+  });
+  int switched = 0;
+  double lowest = std::numeric_limits<double>::infinity();
+  for (std::size_t e = 0; e < s.size(); ++e) {
+    if (dense[e].empty()) continue;
+    q[e].sampled = q[e].scaled;  // its usual sample's
+    q[e].grid = params.check_points, q[e].scaled = figure[e], samples[e] = std::move(dense[e]);
+    ++switched, lowest = std::min(lowest, figure[e]);
+  }
+  if (switched > 0)
+    core::log(std::to_string(switched) + " elements dip between their samples (down to " + std::to_string(lowest) + " on " +
+              std::to_string(params.check_points) + "^3 points): sampled there from now on");
+  return switched;
+}
+
 // The per-node sweeps (OptimizeParams::sweeps, max_nodes_per_sweep, min_gain, patience): worst
 // elements first, each interior node moved where it raises the worst figure of its elements.
 void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, std::vector<XRowSamples>& x_rows,
@@ -1115,7 +1167,7 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           std::vector<std::array<double, 2>> v(set.size(), {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
           pool.for_each(set.size(), [&](std::size_t i) {
             const bezier::BezierHex hx = s.hex(static_cast<std::size_t>(set[i]));
-            v[i][0] = bezier::sample_jacobian(hx, params.gauss_points, params.grid_points).min_scaled;
+            v[i][0] = bezier::sample_jacobian(hx, params.gauss_points, q[static_cast<std::size_t>(set[i])].grid).min_scaled;
             if (!q[static_cast<std::size_t>(set[i])].valid) {
               const bezier::CertifyResult c = bezier::certify(hx, cp);
               if (c.mean_detj > 0) v[i][1] = c.min_detj_lower / c.mean_detj;
@@ -1132,7 +1184,8 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         AffineSamples linear;
         std::vector<int> direct;  // elements not certified valid: re-evaluated and certified per call
         std::vector<int> linearized;
-        for (const int x : near) (q[static_cast<std::size_t>(x)].valid ? linearized : direct).push_back(x);
+        // (x_rows hold the usual sample layout: elements sampled on the check grid are direct too.)
+        for (const int x : near) (q[static_cast<std::size_t>(x)].valid && q[static_cast<std::size_t>(x)].grid == params.grid_points ? linearized : direct).push_back(x);
         // Row x of the samples with the node moved by h along x, per element (in parallel), then
         // added in element order.
         std::vector<std::vector<Eigen::RowVector3d>> J1(linearized.size());
@@ -1176,9 +1229,11 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           if (frame.dims == 2) y = onto_surface(frame, *surface, y);
           s.set_position(id, {y.x(), y.y(), y.z()});
         }
+        const double before_sampled = worst_figures(q, els).second;
         std::vector<std::vector<Eigen::Matrix3d>> js(els.size());
         std::vector<Quality> now(els.size());
-        // Accepted iff every element's new figure exceeds `before` (and, for elements not certified
+        // Accepted iff every element's new figure exceeds `before` and its usual sample's stays at
+        // least the lowest of its neighbours' before (and, for elements not certified
         // valid, its certified lower bound relative to its mean det J) and every certified-valid
         // element stays certified valid. Evaluated on the pool, worst elements first; the first
         // element that fails stops the others (the decision and, when accepted, every element's
@@ -1194,8 +1249,8 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           const std::size_t k = order[i];
           const std::size_t x = static_cast<std::size_t>(els[k]);
           const bezier::BezierHex hex = s.hex(x);
-          js[k] = bezier::jacobian_samples(hex, params.gauss_points, params.grid_points);
-          now[k].scaled = bezier::summarize_jacobians(js[k]).min_scaled;
+          now[k].grid = q[x].grid;
+          sample_figures(hex, params, now[k], js[k]);
           now[k].trilinear = corner_hex_scaled_jacobian(hex);
           if (trilinear_falls(params, q[x], now[k])) {
             refused = true;
@@ -1207,7 +1262,7 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
             now[k].valid = c.status == bezier::Validity::valid;
             if (c.mean_detj > 0) value = std::min(value, c.min_detj_lower / c.mean_detj);
           }
-          if (!(value > before + 1e-9)) {
+          if (!(value > before + 1e-9) || now[k].sampled < before_sampled) {
             refused = true;
             return;
           }
@@ -1271,6 +1326,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     throw core::ConfigError("tmesh optimization: min_gain and min_fixed_rel must be in [0, 1] and patience in [1, 100]");
   if (!(params.cycle_min_gain >= 0 && params.cycle_min_gain <= 1))
     throw core::ConfigError("tmesh optimization: cycle_min_gain must be in [0, 1], got " + std::to_string(params.cycle_min_gain));
+  if ((params.check_points != 0 && (params.check_points < 2 || params.check_points > 32)) || !(params.check_tolerance >= 0 && params.check_tolerance <= 1))
+    throw core::ConfigError("tmesh optimization: check_points must be 0 or in [2, 32] and check_tolerance in [0, 1]");
   if (params.cycles < 1 || params.cycles > 100) throw core::ConfigError("tmesh.optimize_cycles must be in [1, 100], got " + std::to_string(params.cycles));
   if (params.trilinear_sweeps < 0 || params.trilinear_sweeps > 100 || !(params.trilinear_target >= -1 && params.trilinear_target <= 1))
     throw core::ConfigError("tmesh optimization: trilinear_sweeps must be in [0, 100] and trilinear_target in [-1, 1]");
@@ -1294,9 +1351,10 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   core::ThreadPool pool;
   pool.for_each(s.size(), [&](std::size_t e) {
     const bezier::BezierHex h = s.hex(e);
-    samples[e] = bezier::jacobian_samples(h, params.gauss_points, params.grid_points);
-    q[e] = Quality{bezier::summarize_jacobians(samples[e]).min_scaled, bezier::certify(h, cp).status == bezier::Validity::valid,
-                   corner_hex_scaled_jacobian(h)};
+    q[e].grid = params.grid_points;
+    sample_figures(h, params, q[e], samples[e]);
+    q[e].valid = bezier::certify(h, cp).status == bezier::Validity::valid;
+    q[e].trilinear = corner_hex_scaled_jacobian(h);
   });
   auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
   summary(&r.min_before, &r.invalid_before);
@@ -1331,7 +1389,12 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     if (params.cycles > 1)
       core::log("cycle " + std::to_string(cycle + 1) + ": worst scaled Jacobian " + std::to_string(cycle_start) + " -> " + std::to_string(cycle_end) +
                 ", not certified valid " + std::to_string(cycle_invalid) + " -> " + std::to_string(cycle_invalid_end));
-    if (r.stop_reason == "no_element_below_target" || r.stop_reason == "disabled") break;
+    if (r.stop_reason == "disabled") break;
+    // Dips found: the next cycle raises them (if there is one).
+    const int dips = params.sweeps > 0 ? sample_dips_densely(s, q, samples, pool, params) : 0;
+    r.elements_on_check_grid += dips;
+    if (dips > 0) continue;
+    if (r.stop_reason == "no_element_below_target") break;
     if (cycle_invalid_end >= cycle_invalid && cycle_end < cycle_start + params.cycle_min_gain) break;
   }
   if (r.stop_reason.empty()) {
@@ -1344,8 +1407,9 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     core::LogSection phase("trilinear pass");
     trilinear_phase(s, q, samples, pool, params, r);
   }
-  summary(&r.min_after, &r.invalid_after);
-  for (const Quality& x : q) r.element_after.push_back(x.scaled);
+  summary(&r.min_after_checked, &r.invalid_after);
+  r.min_after = worst_figures(q).second;
+  for (const Quality& x : q) r.element_after.push_back(x.sampled);
   return r;
 }
 

@@ -52,6 +52,12 @@ struct Params {
   /// scaled Jacobian at besides its Gauss points (OptimizeParams::grid_points); 2 = the corners
   /// alone (the paper's sample) [2, 8].
   int grid_points = 5;
+  /// After each cycle, elements whose field dips between the samples (below them by more than
+  /// check_tolerance, and below the target) on a uniform grid of check_points per direction are
+  /// sampled on it from then on (OptimizeParams::check_points / check_tolerance) [0 or 2..32] /
+  /// [0, 1] scaled Jacobian; 0 = no check.
+  int check_points = 13;
+  double check_tolerance = 0.05;
   double joint_sharpness = 40;
   double joint_window = 0.1;
   /// The joint rounds slide surface nodes along the input surface where no sharp edge is within

@@ -91,6 +91,14 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_EQ(lv.tmesh.max_level, 5);
   EXPECT_EQ(lv.tmesh.deviation_samples, 3);
   EXPECT_NE(config_error("tmesh: {deviation_samples: 1}\n").find("tmesh.deviation_samples"), std::string::npos);
+  // The check grid: documented defaults are the library's, round trip, ranges (1 point is no grid).
+  EXPECT_EQ(file.tmesh.check_points, tmesh::OptimizeParams{}.check_points);
+  EXPECT_EQ(file.tmesh.check_tolerance, tmesh::OptimizeParams{}.check_tolerance);
+  const auto ck = config::parse_config(config::to_yaml(config::parse_config("tmesh: {check_points: 0, check_tolerance: 0.1}\n", "t")), "emitted");
+  EXPECT_EQ(ck.tmesh.check_points, 0);
+  EXPECT_EQ(ck.tmesh.check_tolerance, 0.1);
+  for (const char* bad : {"tmesh: {check_points: 1}\n", "tmesh: {check_points: 33}\n", "tmesh: {check_tolerance: -0.1}\n"})
+    EXPECT_NE(config_error(bad).find("tmesh.check_"), std::string::npos) << bad;
   EXPECT_NE(config_error("tmesh: {epsilon_rel: -0.1}\n").find("tmesh.epsilon_rel"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {max_level: 8}\n").find("tmesh.max_level"), std::string::npos);
   EXPECT_EQ(file.tmesh.refine, tmesh::Params{}.refine);
@@ -138,7 +146,7 @@ TEST(Config, EmittedYamlParsesBackToTheSameConfig) {
 
 TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("test.yaml: unknown key 'tmesh.levle'"), std::string::npos);
-  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: degree, deviation_samples, epsilon_rel, grid_points, h_refine, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: check_points, check_tolerance, degree, deviation_samples, epsilon_rel, grid_points, h_refine, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
   EXPECT_NE(config_error("clasify: {}\n").find("unknown key 'clasify'"), std::string::npos);
   EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
 }
