@@ -1393,7 +1393,14 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     // Dips found: the next cycle raises them (if there is one).
     const int dips = params.sweeps > 0 ? sample_dips_densely(s, q, samples, pool, params) : 0;
     r.elements_on_check_grid += dips;
-    if (dips > 0) continue;
+    if (dips > 0) {
+      if (cycle + 1 == params.cycles) {
+        r.stop_reason = "cycle_bound";
+        core::log_warning("optimization stopped at its bound of " + std::to_string(params.cycles) +
+                          " cycles (tmesh.optimize_cycles) with elements just found to dip between the samples");
+      }
+      continue;
+    }
     if (r.stop_reason == "no_element_below_target") break;
     if (cycle_invalid_end >= cycle_invalid && cycle_end < cycle_start + params.cycle_min_gain) break;
   }

@@ -168,8 +168,9 @@ struct OptimizeResult {
   int sweeps = 0;                           ///< sweeps run, over all cycles (a cycle stops early when a sweep moves nothing)
   int sweeps_cut_at_node_bound = 0;         ///< sweeps that stopped at `max_nodes_per_sweep`
   /// Why it stopped: "no_element_below_target", "no_move" (a sweep moved nothing), "stalled" (`patience`
-  /// sweeps in a row made too little progress, see min_gain), "disabled" (0 sweeps) or "sweep_bound" (`sweeps` ran
-  /// out while moves still helped; logged as a warning).
+  /// sweeps in a row made too little progress, see min_gain), "disabled" (0 sweeps), "sweep_bound" (`sweeps` ran
+  /// out while moves still helped; logged as a warning) or "cycle_bound" (the last cycle's check found
+  /// elements that dip between the samples, check_points; a warning too).
   std::string stop_reason;
   double trilinear_before = 0, trilinear_after = 0;  ///< worst scaled Jacobian of the trilinear T-mesh elements around that phase
   int trilinear_nodes_moved = 0;

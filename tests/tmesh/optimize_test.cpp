@@ -145,6 +145,15 @@ TEST(Optimize, SaysWhyItStopped) {
   const tmesh::OptimizeResult cut = tmesh::optimize(ts, op);
   EXPECT_EQ(cut.sweeps_cut_at_node_bound, 1);
   EXPECT_LE(cut.nodes_moved, 3);
+  // The only cycle's check grid finds dips that no cycle is left to raise.
+  std::vector<tmesh::TMesh> dipping = blocks(1, 0.8);
+  tmesh::OptimizeParams c;
+  c.gauss_points = 2, c.grid_points = 2, c.check_points = 9, c.cycles = 1;
+  c.target = 0.95, c.sweeps = 1, c.joint_evaluations = 100;
+  const tmesh::OptimizeResult bound = tmesh::optimize(dipping, c);
+  EXPECT_EQ(bound.stop_reason, "cycle_bound");
+  EXPECT_GT(bound.elements_on_check_grid, 0);
+  EXPECT_LT(bound.min_after_checked, bound.min_after);
 }
 
 TEST(Optimize, StopsWhenSweepsStall) {
