@@ -379,14 +379,19 @@ void sample_figures(const bezier::BezierHex& h, const OptimizeParams& params, Qu
 }
 
 // The lowest `scaled` (on each element's own sample) and the lowest `sampled` (the usual sample)
-// over elements `els` of q (all of them if empty).
-std::pair<double, double> worst_figures(const std::vector<Quality>& q, const std::vector<int>& els = {}) {
+// over elements `els` of q, or over all of them.
+std::pair<double, double> worst_figures(const std::vector<Quality>& q, const std::vector<int>& els) {
   std::pair<double, double> w{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-  auto add = [&w](const Quality& x) { w.first = std::min(w.first, x.scaled), w.second = std::min(w.second, x.sampled); };
-  if (els.empty())
-    for (const Quality& x : q) add(x);
-  for (const int e : els) add(q[static_cast<std::size_t>(e)]);
+  for (const int e : els) {
+    const Quality& x = q[static_cast<std::size_t>(e)];
+    w.first = std::min(w.first, x.scaled), w.second = std::min(w.second, x.sampled);
+  }
   return w;
+}
+std::pair<double, double> worst_figures(const std::vector<Quality>& q) {
+  std::vector<int> all(q.size());
+  for (std::size_t e = 0; e < q.size(); ++e) all[e] = static_cast<int>(e);
+  return worst_figures(q, all);
 }
 
 // The interior nodes (global ids) of element e not yet in `visited`, added to it, and with
