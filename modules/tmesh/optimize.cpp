@@ -1402,7 +1402,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
       if (cycle + 1 == params.cycles) {
         r.stop_reason = "cycle_bound";
         core::log_warning("optimization stopped at its bound of " + std::to_string(params.cycles) +
-                          " cycles (tmesh.optimize_cycles) with elements just found to dip between the samples");
+                          " cycles (optimize_cycles) with elements just found to dip between the samples");
       }
       continue;
     }
