@@ -280,6 +280,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("certify_max_depth", t.certify.max_depth, 0, 20);
     s.get("optimize_cycles", t.optimize_cycles, 0, 100);
     s.get("optimize_target", t.optimize_target, 0.0, 1.0);
+    s.get("optimize_grid_points", t.optimize_grid_points, 2, 8);
     if (!(t.optimize_target > 0)) throw core::ConfigError(source + ": tet2hex.optimize_target: must be in (0, 1]");
     s.finish();
   }
@@ -455,7 +456,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "boundary_samples" << YAML::Value << t.boundary_samples;
   e << YAML::Key << "certify_max_depth" << YAML::Value << t.certify.max_depth;
   e << YAML::Key << "optimize_cycles" << YAML::Value << t.optimize_cycles;
-  e << YAML::Key << "optimize_target" << YAML::Value << t.optimize_target << YAML::EndMap;
+  e << YAML::Key << "optimize_target" << YAML::Value << t.optimize_target;
+  e << YAML::Key << "optimize_grid_points" << YAML::Value << t.optimize_grid_points << YAML::EndMap;
   const auto& f = c.fit;
   e << YAML::Key << "fit" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "elements" << YAML::Value << f.pillow.elements;

@@ -35,6 +35,7 @@ void check_params(const Params& p) {
   if (!(p.remesh_edge_rel >= 0 && p.remesh_edge_rel <= 0.5)) throw core::ConfigError("tet2hex.remesh_edge_rel must be in [0, 0.5]");
   if (p.optimize_cycles < 0 || p.optimize_cycles > 100) throw core::ConfigError("tet2hex.optimize_cycles must be in [0, 100]");
   if (!(p.optimize_target > 0 && p.optimize_target <= 1)) throw core::ConfigError("tet2hex.optimize_target must be in (0, 1]");
+  if (p.optimize_grid_points < 2 || p.optimize_grid_points > 8) throw core::ConfigError("tet2hex.optimize_grid_points must be in [2, 8]");
 }
 
 // The tet vertex each hex axis of sub-hex c runs towards (from subdomain_corners): the boundary
@@ -336,6 +337,7 @@ void optimize_hexes(Result& r, const Mesh& surface, const std::vector<std::array
   op.cycles = params.optimize_cycles;
   op.target = params.optimize_target;
   op.gauss_points = gauss_points;  // the figure measured below
+  op.grid_points = params.optimize_grid_points;
   // Sliding from the first round: the worst hexes of the tet route lie at the surface (on the
   // assembly, fixed-surface rounds were all refused: 50 of 150 s for nothing).
   op.slide_from = tmesh::OptimizeParams::SlideFrom::start;

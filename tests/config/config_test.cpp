@@ -175,8 +175,11 @@ TEST(Config, TetRouteSection) {
   EXPECT_EQ(file.tet2hex.certify.max_depth, builtin.tet2hex.certify.max_depth);
   EXPECT_EQ(file.tet2hex.optimize_cycles, builtin.tet2hex.optimize_cycles);
   EXPECT_DOUBLE_EQ(file.tet2hex.optimize_target, builtin.tet2hex.optimize_target);
+  EXPECT_EQ(file.tet2hex.optimize_grid_points, builtin.tet2hex.optimize_grid_points);
   const auto c = config::parse_config(
-      "route: tet\ntet2hex: {degree: 2, curve_boundary: false, max_volume_rel: 0.01, remesh_edge_rel: 0.05, optimize_cycles: 2, optimize_target: 0.4}\n", "t");
+      "route: tet\ntet2hex: {degree: 2, curve_boundary: false, max_volume_rel: 0.01, remesh_edge_rel: 0.05, optimize_cycles: 2, optimize_target: 0.4, "
+      "optimize_grid_points: 2}\n",
+      "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");
   EXPECT_EQ(d.route, "tet");
   EXPECT_EQ(d.tet2hex.degree, 2);
@@ -185,6 +188,8 @@ TEST(Config, TetRouteSection) {
   EXPECT_DOUBLE_EQ(d.tet2hex.remesh_edge_rel, 0.05);
   EXPECT_EQ(d.tet2hex.optimize_cycles, 2);
   EXPECT_DOUBLE_EQ(d.tet2hex.optimize_target, 0.4);
+  EXPECT_EQ(d.tet2hex.optimize_grid_points, 2);
+  EXPECT_NE(config_error("tet2hex: {optimize_grid_points: 1}\n").find("tet2hex.optimize_grid_points"), std::string::npos);
   EXPECT_NE(config_error("tet2hex: {optimize_target: 0}\n").find("tet2hex.optimize_target"), std::string::npos);
   EXPECT_NE(config_error("tet2hex: {optimize_cycles: 101}\n").find("tet2hex.optimize_cycles"), std::string::npos);
   EXPECT_NE(config_error("tet2hex: {degree: 5}\n").find("tet2hex.degree: 5 is out of range [1, 4]"), std::string::npos);

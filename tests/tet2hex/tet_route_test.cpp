@@ -104,6 +104,11 @@ TEST(TetRoute, BadParametersAndInputAreRefused) {
   p = {};
   p.optimize_target = 0;
   EXPECT_THROW(run(s, p), core::ConfigError);
+  for (const int bad : {1, 9}) {
+    p = {};
+    p.optimize_grid_points = bad;
+    EXPECT_THROW(run(s, p), core::ConfigError);
+  }
   EXPECT_THROW(run(std::vector<bezier::BezierTet>{}, Params{}), core::InvalidInputError);
 }
 
