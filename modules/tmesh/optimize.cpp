@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -369,6 +370,9 @@ struct Quality {
   double trilinear = 1;  // scaled Jacobian of the hex of its corner points (eq. (1)–(2))
   int grid = 0;          // points per direction of its sample's uniform grid
   double sampled = 0;    // min scaled Jacobian on the usual sample (= scaled while grid is grid_points)
+  /// Not certified valid although its own sample is positive (a fold between the samples): the
+  /// certifier's witness, a point of the fold (certify_figure).
+  std::optional<Eigen::Vector3d> witness;
 };
 
 // The Jacobians of h on the sample of x (x.grid) into js, and x's two sampled figures.
@@ -376,6 +380,28 @@ void sample_figures(const bezier::BezierHex& h, const OptimizeParams& params, Qu
   js = bezier::jacobian_samples(h, params.gauss_points, x.grid);
   x.scaled = bezier::summarize_jacobians(js).min_scaled;
   x.sampled = x.grid == params.grid_points ? x.scaled : bezier::sample_jacobian(h, params.gauss_points, params.grid_points).min_scaled;
+}
+
+// Half the spacing of the points around a fold's witness (in the element's parameters): the
+// certifier finds folds that every sample misses a few hundredths across (the rod's pillow
+// corners, where extract's finer elements see them).
+constexpr double kWitnessSpacing = 1.0 / 32;
+
+// The points around a witness, per axis (clamped to the element).
+std::array<std::vector<double>, 3> witness_axes(const Eigen::Vector3d& witness) {
+  std::array<std::vector<double>, 3> t;
+  for (int d = 0; d < 3; ++d) t[static_cast<std::size_t>(d)] = {std::max(0.0, witness[d] - kWitnessSpacing), witness[d], std::min(1.0, witness[d] + kWitnessSpacing)};
+  return t;
+}
+
+// Certifies h into x.valid; x.witness is the certifier's witness if h is not certified valid
+// while its sampled figure x.scaled is positive: its samples miss the fold. Returns the result.
+bezier::CertifyResult certify_figure(const bezier::BezierHex& h, const bezier::CertifyParams& cp, Quality& x) {
+  const bezier::CertifyResult c = bezier::certify(h, cp);
+  x.valid = c.status == bezier::Validity::valid;
+  x.witness.reset();
+  if (!x.valid && x.scaled > 0) x.witness = c.witness;
+  return c;
 }
 
 // The lowest `scaled` (on each element's own sample) and the lowest `sampled` (the usual sample)
@@ -535,7 +561,7 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
             std::to_string(c.y()) + ", " + std::to_string(c.z()) + "): " + std::to_string(tri(w)));
 }
 
-// Bernstein values and derivatives of one degree at abscissae t (the same on the three axes).
+// Bernstein values and derivatives of one degree at abscissae t.
 struct GridAxis {
   int n = 0;                         // points per direction of the hex: degree + 1
   std::vector<double> t;             // abscissae
@@ -553,48 +579,62 @@ GridAxis grid_axis(int degree, const std::vector<double>& t) {
   return g;
 }
 
+// A tensor grid of sample points t_i × t_j × t_k in the element's parameters (i fastest), its
+// abscissae per axis.
+struct Grid3 {
+  GridAxis u, v, w;
+  std::size_t size() const { return u.t.size() * v.t.size() * w.t.size(); }
+};
+
 // The joint phase's sample grids: the uniform grid (the 8 corners at grid_points 2) and the n^3 Gauss points (what the sampled
 // figure looks at) or, for elements not certified valid (a fold can hide between those), a
 // uniform grid of `dense` points per direction, element boundary included.
-std::vector<GridAxis> joint_grids(int degree, int gauss_points, int grid_points, int dense) {
+std::vector<Grid3> joint_grids(int degree, int gauss_points, int grid_points, int dense) {
   auto uniform = [](int n) {
     std::vector<double> t;
     for (int i = 0; i < n; ++i) t.push_back(i / (n - 1.0));
     return t;
   };
-  if (dense > 1) return {grid_axis(degree, uniform(dense))};
-  return {grid_axis(degree, uniform(grid_points)), grid_axis(degree, bezier::gauss_legendre_points(gauss_points))};
+  auto iso = [](const GridAxis& g) { return Grid3{g, g, g}; };
+  if (dense > 1) return {iso(grid_axis(degree, uniform(dense)))};
+  return {iso(grid_axis(degree, uniform(grid_points))), iso(grid_axis(degree, bezier::gauss_legendre_points(gauss_points)))};
 }
 
-// Jacobians of a polynomial hex (points Q[a + n(b + nc)]) at the grid points t_i × t_j × t_k
-// (i fastest), appended to J; by sum factorization, one axis at a time (a twentieth of the
-// operations of a sum over the points per sample for cubics).
-void grid_jacobians(const std::vector<Eigen::Vector3d>& Q, const GridAxis& g, std::vector<Eigen::Matrix3d>& J) {
-  const std::size_t n = static_cast<std::size_t>(g.n), m = g.t.size();
+// The 3^3 grid around a fold's witness (certify_figure's points).
+Grid3 witness_grid(int degree, const Eigen::Vector3d& witness) {
+  const auto t = witness_axes(witness);
+  return {grid_axis(degree, t[0]), grid_axis(degree, t[1]), grid_axis(degree, t[2])};
+}
+
+// Jacobians of a polynomial hex (points Q[a + n(b + nc)]) at the points of grid g, appended to
+// J; by sum factorization, one axis at a time (a twentieth of the operations of a sum over the
+// points per sample for cubics).
+void grid_jacobians(const std::vector<Eigen::Vector3d>& Q, const Grid3& g, std::vector<Eigen::Matrix3d>& J) {
+  const std::size_t n = static_cast<std::size_t>(g.u.n), mu = g.u.t.size(), mv = g.v.t.size(), mw = g.w.t.size();
   thread_local std::vector<Eigen::Vector3d> W0, W1, V00, V10, V01;
-  W0.assign(n * n * m, Eigen::Vector3d::Zero()), W1.assign(W0.size(), Eigen::Vector3d::Zero());
-  for (std::size_t k = 0; k < m; ++k)  // w: W[a + n(b + nk)]
+  W0.assign(n * n * mw, Eigen::Vector3d::Zero()), W1.assign(W0.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < mw; ++k)  // w: W[a + n(b + nk)]
     for (std::size_t c = 0; c < n; ++c) {
-      const double bc = g.B[k * n + c], dc = g.dB[k * n + c];
+      const double bc = g.w.B[k * n + c], dc = g.w.dB[k * n + c];
       for (std::size_t ab = 0; ab < n * n; ++ab) W0[ab + n * n * k] += bc * Q[ab + n * n * c], W1[ab + n * n * k] += dc * Q[ab + n * n * c];
     }
-  V00.assign(n * m * m, Eigen::Vector3d::Zero()), V10.assign(V00.size(), Eigen::Vector3d::Zero()), V01.assign(V00.size(), Eigen::Vector3d::Zero());
-  for (std::size_t k = 0; k < m; ++k)  // v: V[a + n(j + mk)]
-    for (std::size_t j = 0; j < m; ++j)
+  V00.assign(n * mv * mw, Eigen::Vector3d::Zero()), V10.assign(V00.size(), Eigen::Vector3d::Zero()), V01.assign(V00.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < mw; ++k)  // v: V[a + n(j + mv k)]
+    for (std::size_t j = 0; j < mv; ++j)
       for (std::size_t b = 0; b < n; ++b) {
-        const double bb = g.B[j * n + b], db = g.dB[j * n + b];
+        const double bb = g.v.B[j * n + b], db = g.v.dB[j * n + b];
         for (std::size_t a = 0; a < n; ++a) {
-          const std::size_t in = a + n * (b + n * k), out = a + n * (j + m * k);
+          const std::size_t in = a + n * (b + n * k), out = a + n * (j + mv * k);
           V00[out] += bb * W0[in], V10[out] += db * W0[in], V01[out] += bb * W1[in];
         }
       }
-  for (std::size_t k = 0; k < m; ++k)  // u
-    for (std::size_t j = 0; j < m; ++j)
-      for (std::size_t i = 0; i < m; ++i) {
+  for (std::size_t k = 0; k < mw; ++k)  // u
+    for (std::size_t j = 0; j < mv; ++j)
+      for (std::size_t i = 0; i < mu; ++i) {
         Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
         for (std::size_t a = 0; a < n; ++a) {
-          const std::size_t in = a + n * (j + m * k);
-          M.col(0) += g.dB[i * n + a] * V00[in], M.col(1) += g.B[i * n + a] * V10[in], M.col(2) += g.B[i * n + a] * V01[in];
+          const std::size_t in = a + n * (j + mv * k);
+          M.col(0) += g.u.dB[i * n + a] * V00[in], M.col(1) += g.u.B[i * n + a] * V10[in], M.col(2) += g.u.B[i * n + a] * V01[in];
         }
         J.push_back(M);
       }
@@ -602,32 +642,32 @@ void grid_jacobians(const std::vector<Eigen::Vector3d>& Q, const GridAxis& g, st
 
 // The transpose of grid_jacobians: adds Σ_s tr(G_sᵀ ∂J_s/∂Q) to dQ for the grid's samples
 // G[first], G[first + 1], ... (G_s = weight × ∂(scaled Jacobian)/∂J).
-void grid_pull_back(const std::vector<Eigen::Matrix3d>& G, std::size_t first, const GridAxis& g, std::vector<Eigen::Vector3d>& dQ) {
-  const std::size_t n = static_cast<std::size_t>(g.n), m = g.t.size();
+void grid_pull_back(const std::vector<Eigen::Matrix3d>& G, std::size_t first, const Grid3& g, std::vector<Eigen::Vector3d>& dQ) {
+  const std::size_t n = static_cast<std::size_t>(g.u.n), mu = g.u.t.size(), mv = g.v.t.size(), mw = g.w.t.size();
   thread_local std::vector<Eigen::Vector3d> W0, W1, V00, V10, V01;
-  V00.assign(n * m * m, Eigen::Vector3d::Zero()), V10.assign(V00.size(), Eigen::Vector3d::Zero()), V01.assign(V00.size(), Eigen::Vector3d::Zero());
-  for (std::size_t k = 0; k < m; ++k)
-    for (std::size_t j = 0; j < m; ++j)
-      for (std::size_t i = 0; i < m; ++i) {
-        const Eigen::Matrix3d& M = G[first + i + m * (j + m * k)];
+  V00.assign(n * mv * mw, Eigen::Vector3d::Zero()), V10.assign(V00.size(), Eigen::Vector3d::Zero()), V01.assign(V00.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < mw; ++k)
+    for (std::size_t j = 0; j < mv; ++j)
+      for (std::size_t i = 0; i < mu; ++i) {
+        const Eigen::Matrix3d& M = G[first + i + mu * (j + mv * k)];
         for (std::size_t a = 0; a < n; ++a) {
-          const std::size_t out = a + n * (j + m * k);
-          V00[out] += g.dB[i * n + a] * M.col(0), V10[out] += g.B[i * n + a] * M.col(1), V01[out] += g.B[i * n + a] * M.col(2);
+          const std::size_t out = a + n * (j + mv * k);
+          V00[out] += g.u.dB[i * n + a] * M.col(0), V10[out] += g.u.B[i * n + a] * M.col(1), V01[out] += g.u.B[i * n + a] * M.col(2);
         }
       }
-  W0.assign(n * n * m, Eigen::Vector3d::Zero()), W1.assign(W0.size(), Eigen::Vector3d::Zero());
-  for (std::size_t k = 0; k < m; ++k)
-    for (std::size_t j = 0; j < m; ++j)
+  W0.assign(n * n * mw, Eigen::Vector3d::Zero()), W1.assign(W0.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < mw; ++k)
+    for (std::size_t j = 0; j < mv; ++j)
       for (std::size_t b = 0; b < n; ++b) {
-        const double bb = g.B[j * n + b], db = g.dB[j * n + b];
+        const double bb = g.v.B[j * n + b], db = g.v.dB[j * n + b];
         for (std::size_t a = 0; a < n; ++a) {
-          const std::size_t in = a + n * (j + m * k), out = a + n * (b + n * k);
+          const std::size_t in = a + n * (j + mv * k), out = a + n * (b + n * k);
           W0[out] += bb * V00[in] + db * V10[in], W1[out] += bb * V01[in];
         }
       }
-  for (std::size_t k = 0; k < m; ++k)
+  for (std::size_t k = 0; k < mw; ++k)
     for (std::size_t c = 0; c < n; ++c) {
-      const double bc = g.B[k * n + c], dc = g.dB[k * n + c];
+      const double bc = g.w.B[k * n + c], dc = g.w.dB[k * n + c];
       for (std::size_t ab = 0; ab < n * n; ++ab) dQ[ab + n * n * c] += bc * W0[ab + n * n * k] + dc * W1[ab + n * n * k];
     }
 }
@@ -743,6 +783,21 @@ void tri_samples(const std::vector<Eigen::Vector3d>& x, int p, const OptimizePar
   }
 }
 
+// Per element, the folds between its samples that the certifier found (Quality::witness): at a
+// round's start, and those a step made where the element had none (its nodes then went back).
+// The joint objective samples around each from then on: the rounds raise a fold that no sample
+// sees (the rod: 3 elements left folded under positive samples, every round refused), and L-BFGS
+// does not make the same fold again (the folded twist at grid_points 2 ended 0.07 → 0.33).
+using Folds = std::vector<std::vector<Eigen::Vector3d>>;
+constexpr std::size_t kMaxFolds = 8;  // per element: more points only slow the rounds
+
+void add_fold(std::vector<Eigen::Vector3d>& folds, const Eigen::Vector3d& witness) {
+  if (folds.size() >= kMaxFolds) return;
+  for (const Eigen::Vector3d& f : folds)
+    if ((f - witness).cwiseAbs().maxCoeff() <= kWitnessSpacing) return;  // its grid covers it
+  folds.push_back(witness);
+}
+
 // The joint phase (OptimizeParams::joint_rounds): the interior nodes of the elements below the
 // target move together, by NLopt's L-BFGS on a smooth soft minimum of the scaled Jacobian over
 // the samples of every element they support,
@@ -751,7 +806,7 @@ void tri_samples(const std::vector<Eigen::Vector3d>& x, int p, const OptimizePar
 // that share nodes (measured on the eight: 20 pillow elements within 0.02 of the worst); a joint
 // step can. Where the step costs an element its certificate (or its figure falls below the worst
 // one), the nodes of that element go back (see the acceptance below).
-void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, core::ThreadPool& pool,
+void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, Folds& folds, core::ThreadPool& pool,
                  const OptimizeParams& params, const SlideSurface* surface, OptimizeResult& r, bool until_valid = false) {
   const bezier::CertifyParams cp;
   auto all_valid = [&q] { return std::all_of(q.begin(), q.end(), [](const Quality& x) { return x.valid; }); };
@@ -855,15 +910,22 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     std::vector<std::vector<Eigen::Matrix3d>> dsj(els.size());
     std::vector<std::vector<Eigen::Vector3d>> dP(els.size());
     // Sample grids per degree, the usual ones and the dense one of elements not certified valid.
-    std::map<std::tuple<int, int, bool>, std::vector<GridAxis>> grids;
-    std::vector<const std::vector<GridAxis>*> grids_of(els.size());
+    // The folds between an element's samples (Folds) add the points around them.
+    std::map<std::tuple<int, int, bool>, std::vector<Grid3>> grids;
+    std::vector<std::vector<const Grid3*>> grids_of(els.size());
+    std::vector<std::unique_ptr<Grid3>> witness_grids;
     for (std::size_t k = 0; k < els.size(); ++k) {
       const std::size_t e = static_cast<std::size_t>(els[k]);
       const std::tuple<int, int, bool> key{s.degree_of(e), q[e].grid, !q[e].valid};
       auto it = grids.find(key);
       if (it == grids.end())
         it = grids.emplace(key, joint_grids(s.degree_of(e), params.gauss_points, q[e].grid, !q[e].valid ? std::max(params.joint_dense_points, q[e].grid) : 0)).first;
-      grids_of[k] = &it->second;
+      for (const Grid3& g : it->second) grids_of[k].push_back(&g);
+      if (q[e].witness) add_fold(folds[e], *q[e].witness);
+      for (const Eigen::Vector3d& w : folds[e]) {
+        witness_grids.push_back(std::make_unique<Grid3>(witness_grid(s.degree_of(e), w)));
+        grids_of[k].push_back(witness_grids.back().get());
+      }
     }
     // A narrowed round's elements lie within `window` of each other: at the configured sharpness
     // their weights are nearly equal (β·window = 0.5 at 0.0125), so the round raises their mean and
@@ -882,7 +944,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         s.hex_points(e, points);
         std::vector<Eigen::Matrix3d>& J = dsj[k];  // the Jacobians, then (gradient pass) ∂SJ/∂J
         J.clear();
-        for (const GridAxis& g : *grids_of[k]) grid_jacobians(points, g, J);
+        for (const Grid3* g : grids_of[k]) grid_jacobians(points, *g, J);
         sj[k].resize(J.size());
         for (std::size_t i = 0; i < J.size(); ++i) sj[k][i] = bezier::scaled_jacobian(J[i]);
         if (with_tri) tri_samples(points, s.degree_of(e), params, tri[k]);
@@ -923,9 +985,9 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
             dsj[k][i] *= std::exp(-beta * (sj[k][i] - lo)) / Z;
           }
           std::size_t first = 0;
-          for (const GridAxis& g : *grids_of[k]) {
-            grid_pull_back(dsj[k], first, g, dP[k]);
-            first += g.t.size() * g.t.size() * g.t.size();
+          for (const Grid3* g : grids_of[k]) {
+            grid_pull_back(dsj[k], first, *g, dP[k]);
+            first += g->size();
           }
           for (const TriSample& t : tri[k]) {
             const double w = std::exp(-beta * (t.value - lo)) / Z * kTrilinearWeight;
@@ -970,7 +1032,11 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     using Objective = decltype(objective);
     opt.set_max_objective([](const std::vector<double>& x, std::vector<double>& g, void* f) { return (*static_cast<Objective*>(f))(x, g); }, &objective);
     opt.set_maxeval(params.joint_evaluations);
-    opt.set_ftol_abs(1e-7);
+    // No tolerance on successive values: it stopped rounds after a few tiny line-search steps
+    // (the rod: 6 evaluations), and a round without gain ends the phase; at 250 and 350
+    // evaluations per round that left the rod with 1 and 8 elements folded. A round ends at
+    // `joint_evaluations`, at the target, or roundoff-limited. (Stopping once the soft minimum
+    // gained < 1e-4 in 50 evaluations was tried: the rod at 300 kept 3 folds.)
     std::vector<double> x = x0;
     double value = 0;
     try {
@@ -992,13 +1058,14 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       std::vector<std::vector<Eigen::Matrix3d>> js;
       double worst = 0, tri = 0;
       int invalid = 0, reverted = 0;
+      std::vector<std::optional<Eigen::Vector3d>> made;  // per element: a fold the step made (its witness)
     };
     auto try_step = [&](double alpha) {
       Step t;
       t.y.resize(x0.size());
       for (std::size_t i = 0; i < x0.size(); ++i) t.y[i] = x0[i] + alpha * (x[i] - x0[i]);
       set_all(t.y, true);
-      t.now.resize(els.size()), t.js.resize(els.size());
+      t.now.resize(els.size()), t.js.resize(els.size()), t.made.resize(els.size());
       std::vector<char> dirty(els.size(), 1), back(ids.size(), 0);
       for (;;) {
         std::vector<std::size_t> todo;
@@ -1011,8 +1078,9 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           const bezier::BezierHex h = s.hex(e);
           t.now[k].grid = q[e].grid;
           sample_figures(h, params, t.now[k], t.js[k]);
-          t.now[k].valid = bezier::certify(h, cp).status == bezier::Validity::valid;
+          certify_figure(h, cp, t.now[k]);
           t.now[k].trilinear = corner_hex_scaled_jacobian(h);
+          if (q[e].valid && !t.now[k].valid && !t.made[k]) t.made[k] = t.now[k].witness;
           bad[i] = t.now[k].scaled < before || t.now[k].sampled < before_sampled || (q[e].valid && !t.now[k].valid) ||
                    trilinear_falls(params, q[e], t.now[k]);
         });
@@ -1035,10 +1103,16 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       for (const auto& x1 : t.now) t.worst = std::min(t.worst, x1.scaled), t.invalid += x1.valid ? 0 : 1, t.tri = std::min(t.tri, x1.trilinear);
       return t;
     };
+    auto learn = [&](const Step& t) {
+      for (std::size_t k = 0; k < els.size(); ++k)
+        if (t.made[k]) add_fold(folds[static_cast<std::size_t>(els[k])], *t.made[k]);
+    };
     Step best = try_step(1.0);
+    learn(best);
     if (best.reverted > 0)
       for (const double alpha : {0.5, 0.25}) {
         Step t = try_step(alpha);
+        learn(t);
         if (t.invalid < best.invalid || (t.invalid == best.invalid && (t.worst > best.worst || (t.worst == best.worst && t.tri > best.tri))))
           best = std::move(t);
       }
@@ -1262,9 +1336,8 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
             return;
           }
           double value = now[k].scaled;
-          if (!q[x].valid) {
-            const bezier::CertifyResult c = bezier::certify(hex, cp);
-            now[k].valid = c.status == bezier::Validity::valid;
+          if (!q[x].valid) {  // (its figure around the witness counts from the next search on, like `before`'s)
+            const bezier::CertifyResult c = certify_figure(hex, cp, now[k]);
             if (c.mean_detj > 0) value = std::min(value, c.min_detj_lower / c.mean_detj);
           }
           if (!(value > before + 1e-9) || now[k].sampled < before_sampled) {
@@ -1354,11 +1427,12 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   // Threads started once: the per-node batches below (~64 elements) are too small to start
   // threads for each. Every item writes its own slot, so results do not depend on the count.
   core::ThreadPool pool;
+  Folds folds(s.size());  // the folds joint steps made, per element (joint_phase)
   pool.for_each(s.size(), [&](std::size_t e) {
     const bezier::BezierHex h = s.hex(e);
     q[e].grid = params.grid_points;
     sample_figures(h, params, q[e], samples[e]);
-    q[e].valid = bezier::certify(h, cp).status == bezier::Validity::valid;
+    certify_figure(h, cp, q[e]);
     q[e].trilinear = corner_hex_scaled_jacobian(h);
   });
   auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
@@ -1372,18 +1446,18 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     r.stop_reason.clear();
     if (params.sweeps > 0 && cycle > 0) {
       core::LogSection phase("cycle " + std::to_string(cycle + 1) + ": joint rounds" + (surface ? " sliding" : ""));
-      joint_phase(s, q, samples, pool, params, surface, r);
+      joint_phase(s, q, samples, folds, pool, params, surface, r);
     }
     if (params.sweeps > 0 && cycle == 0) {
       // Surface nodes fixed first, then (given the surface) sliding from where those rounds stopped:
       // every kept round raises the worst figure, so sliding can only add to the fixed result.
       if (!surface || params.slide_from != OptimizeParams::SlideFrom::start) {
         core::LogSection phase("joint rounds");
-        joint_phase(s, q, samples, pool, params, nullptr, r, surface && params.slide_from == OptimizeParams::SlideFrom::valid);
+        joint_phase(s, q, samples, folds, pool, params, nullptr, r, surface && params.slide_from == OptimizeParams::SlideFrom::valid);
       }
       if (surface) {
         core::LogSection phase("sliding rounds (joint rounds with surface nodes along the surface)");
-        joint_phase(s, q, samples, pool, params, surface, r);
+        joint_phase(s, q, samples, folds, pool, params, surface, r);
       }
     }
     sweep_phase(s, q, samples, x_rows, pool, params, surface, r);
@@ -1422,6 +1496,9 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   summary(&r.min_after_checked, &r.invalid_after);
   r.min_after = worst_figures(q).second;
   for (const Quality& x : q) r.element_after.push_back(x.sampled);
+  for (const auto& f : folds) r.folds_between_samples += static_cast<int>(f.size());
+  if (r.folds_between_samples > 0)
+    core::log(std::to_string(r.folds_between_samples) + " folds between the samples (found by the certifier) were sampled around in the joint rounds");
   return r;
 }
 

@@ -8,7 +8,10 @@
 // gradient (sum factorization on the sample grids, then the transpose of the extraction). The
 // worst figure is a minimum over many elements that share nodes: a per-node search stalls on a
 // plateau of equally bad elements (the eight: 0.25), the joint step does not (0.50 at the target,
-// 0.64 when run on). Elements not certified valid are sampled on a dense grid there.
+// 0.64 when run on). Elements not certified valid are sampled on a dense grid there, and where
+// the certifier finds a fold that every sample misses (its witness point), or a step folds an
+// element between its samples, the rounds sample around that point from then on
+// (OptimizeResult::folds_between_samples).
 //
 // Then per-node sweeps: the elements below the target are visited worst first and their control
 // points not yet moved in this sweep are optimized one at a time (a T-junction's point stands
@@ -177,6 +180,10 @@ struct OptimizeResult {
   int joint_rounds = 0;  ///< joint rounds kept
   int cycles = 0;        ///< cycles of joint rounds and sweeps run (OptimizeParams::cycles)
   int elements_on_check_grid = 0;  ///< elements sampled on the check grid once their field dipped (OptimizeParams::check_points)
+  /// Folds between the samples: points where the certifier found an element folded while its samples
+  /// were positive (at a joint round's start, or made by a joint step and undone); the joint rounds
+  /// sample around each from then on (at most 8 per element).
+  int folds_between_samples = 0;
   int surface_nodes_slid = 0;  ///< surface nodes the kept joint rounds (once per round) and sliding sweeps (per move) moved along the surface
   /// Per element (the T-mesh's order: block after block, i fastest; write_vtu's): its sampled
   /// scaled Jacobian before and after optimization, so a user sees where the start was poor.
