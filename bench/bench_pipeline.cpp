@@ -73,6 +73,13 @@ const std::vector<Model>& all_models() {
       {"rod", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4},
       // At least the paper's element count: optimized at level 3 (max_level 4), refined to 4.
       {"rod-level4", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {level: 4, max_level: 5}"},
+      // Robustness: the rod at other bounds on a joint round's evaluations (300 by default). The
+      // optimizer's path is chaotic — a small change ends elsewhere — so each should end all valid
+      // too (before session 35 only 300 did; since, all but 325, which leaves 6 folded).
+      {"rod-e250", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {joint_evaluations: 250}"},
+      {"rod-e275", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {joint_evaluations: 275}"},
+      {"rod-e325", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {joint_evaluations: 325}"},
+      {"rod-e350", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {joint_evaluations: 350}"},
       {"tube", "", "vhacd_tube1.off", 24, nullptr},
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},

@@ -370,8 +370,8 @@ struct Quality {
   double trilinear = 1;  // scaled Jacobian of the hex of its corner points (eq. (1)–(2))
   int grid = 0;          // points per direction of its sample's uniform grid
   double sampled = 0;    // min scaled Jacobian on the usual sample (= scaled while grid is grid_points)
-  /// Not certified valid although its own sample is positive (a fold between the samples): the
-  /// certifier's witness, a point of the fold (certify_figure).
+  /// Not certified valid: the certifier's witness, a point of the fold; `scaled` then includes
+  /// the points around it (certify_figure).
   std::optional<Eigen::Vector3d> witness;
 };
 
@@ -394,13 +394,24 @@ std::array<std::vector<double>, 3> witness_axes(const Eigen::Vector3d& witness) 
   return t;
 }
 
-// Certifies h into x.valid; x.witness is the certifier's witness if h is not certified valid
-// while its sampled figure x.scaled is positive: its samples miss the fold. Returns the result.
+// Certifies h into x.valid. If h is not certified valid, x.witness is the certifier's witness
+// and x.scaled falls to the lowest scaled Jacobian around it (≤ 0 for a fold): a fold the
+// samples miss still counts in the worst figure, which every move must not lower. Returns the
+// certifier's result.
 bezier::CertifyResult certify_figure(const bezier::BezierHex& h, const bezier::CertifyParams& cp, Quality& x) {
   const bezier::CertifyResult c = bezier::certify(h, cp);
   x.valid = c.status == bezier::Validity::valid;
   x.witness.reset();
-  if (!x.valid && x.scaled > 0) x.witness = c.witness;
+  if (x.valid) return c;
+  x.witness = c.witness;
+  const auto t = witness_axes(c.witness);
+  for (const double u : t[0])
+    for (const double v : t[1])
+      for (const double w : t[2]) {
+        Eigen::Matrix3d J;
+        bezier::evaluate(h, Eigen::Vector3d(u, v, w), &J);
+        x.scaled = std::min(x.scaled, bezier::scaled_jacobian(J));
+      }
   return c;
 }
 
@@ -783,11 +794,13 @@ void tri_samples(const std::vector<Eigen::Vector3d>& x, int p, const OptimizePar
   }
 }
 
-// Per element, the folds between its samples that the certifier found (Quality::witness): at a
-// round's start, and those a step made where the element had none (its nodes then went back).
-// The joint objective samples around each from then on: the rounds raise a fold that no sample
-// sees (the rod: 3 elements left folded under positive samples, every round refused), and L-BFGS
-// does not make the same fold again (the folded twist at grid_points 2 ended 0.07 → 0.33).
+// Per element, the folds between its samples: where the certifier found it folded
+// (Quality::witness) while its usual sample is positive, at a round's start or after a step that
+// folded it (its nodes then went back). The joint objective samples around each from then on: the
+// rounds raise a fold that no sample sees (the rod: 3 elements left folded under positive
+// samples, every round refused), and L-BFGS does not make the same fold again (the folded twist
+// at grid_points 2 ended 0.07 → 0.32). Folds the samples see are left to them: sampling around
+// those too made the folded twist's second step fold 16 elements elsewhere.
 using Folds = std::vector<std::vector<Eigen::Vector3d>>;
 constexpr std::size_t kMaxFolds = 8;  // per element: more points only slow the rounds
 
@@ -921,7 +934,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       if (it == grids.end())
         it = grids.emplace(key, joint_grids(s.degree_of(e), params.gauss_points, q[e].grid, !q[e].valid ? std::max(params.joint_dense_points, q[e].grid) : 0)).first;
       for (const Grid3& g : it->second) grids_of[k].push_back(&g);
-      if (q[e].witness) add_fold(folds[e], *q[e].witness);
+      if (q[e].witness && q[e].sampled > 0) add_fold(folds[e], *q[e].witness);
       for (const Eigen::Vector3d& w : folds[e]) {
         witness_grids.push_back(std::make_unique<Grid3>(witness_grid(s.degree_of(e), w)));
         grids_of[k].push_back(witness_grids.back().get());
@@ -1080,7 +1093,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           sample_figures(h, params, t.now[k], t.js[k]);
           certify_figure(h, cp, t.now[k]);
           t.now[k].trilinear = corner_hex_scaled_jacobian(h);
-          if (q[e].valid && !t.now[k].valid && !t.made[k]) t.made[k] = t.now[k].witness;
+          if (q[e].valid && !t.now[k].valid && t.now[k].sampled > 0 && !t.made[k]) t.made[k] = t.now[k].witness;
           bad[i] = t.now[k].scaled < before || t.now[k].sampled < before_sampled || (q[e].valid && !t.now[k].valid) ||
                    trilinear_falls(params, q[e], t.now[k]);
         });
@@ -1437,7 +1450,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   });
   auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
   summary(&r.min_before, &r.invalid_before);
-  for (const Quality& x : q) r.element_before.push_back(x.scaled);
+  r.min_before = worst_figures(q).second;  // the usual sample's, as min_after (a fold's witness counts in `scaled` only)
+  for (const Quality& x : q) r.element_before.push_back(x.sampled);
   // Cycles: joint rounds, then per-node sweeps, again from where they stopped (OptimizeParams::cycles).
   for (int cycle = 0; cycle < params.cycles; ++cycle) {
     double cycle_start = 0;

@@ -393,7 +393,7 @@ TEST(Optimize, ElementsWhoseFieldDipsBetweenTheSamplesAreSampledOnTheCheckGrid) 
 // twists at the paper's corner + Gauss sample (grid_points 2, where folds hide between the
 // points): they find such folds (the check is not vacuous), every fold is fixed, the worst figure
 // never falls, and the folded pillowed twist ends far higher than the 0.07 measured before folds
-// were sampled (0.33 since: its steps folded elements between the samples, were refused, and
+// were sampled (0.32 since: its steps folded elements between the samples, were refused, and
 // L-BFGS made the same folds again round after round).
 TEST(Optimize, FoldsBetweenTheSamplesAreSampledAroundAndFixed) {
   int folds = 0;
