@@ -1349,7 +1349,7 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
             return;
           }
           double value = now[k].scaled;
-          if (!q[x].valid) {  // (its figure around the witness counts from the next search on, like `before`'s)
+          if (!q[x].valid) {  // judged as `before` (sample and certified bound); the stored figure adds the witness's points
             const bezier::CertifyResult c = certify_figure(hex, cp, now[k]);
             if (c.mean_detj > 0) value = std::min(value, c.min_detj_lower / c.mean_detj);
           }
