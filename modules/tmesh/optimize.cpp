@@ -811,6 +811,29 @@ void add_fold(std::vector<Eigen::Vector3d>& folds, const Eigen::Vector3d& witnes
   folds.push_back(witness);
 }
 
+// Marks in `chosen` every element that shares a node with a marked one, `rings` times.
+void grow_by_rings(const Spline& s, int rings, std::vector<char>& chosen) {
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<char> grown = chosen;
+    for (std::size_t e = 0; e < s.size(); ++e)
+      if (chosen[e])
+        for (const int local : s.points_of(e))
+          for (const auto& [id, w] : s.nodes_of(s.block_of(e), local))
+            for (const int e2 : s.elements_of(id)) grown[static_cast<std::size_t>(e2)] = 1;
+    chosen.swap(grown);
+  }
+}
+
+// How a joint phase runs, besides OptimizeParams.
+struct JointMode {
+  bool until_valid = false;  // stop once every element is certified valid
+  bool folded_only = false;  // variables: the nodes of the elements not certified valid only (repair_folds)
+  int rings = 0;             // the chosen elements grow by this many rings of neighbours (sharing a node)
+  // No element certified valid may fall below min(this, its figure) (repair_folds: the worst
+  // figure of the valid elements; by default only the round's worst figure bounds them).
+  double valid_floor = -std::numeric_limits<double>::infinity();
+};
+
 // The joint phase (OptimizeParams::joint_rounds): the interior nodes of the elements below the
 // target move together, by NLopt's L-BFGS on a smooth soft minimum of the scaled Jacobian over
 // the samples of every element they support,
@@ -820,7 +843,9 @@ void add_fold(std::vector<Eigen::Vector3d>& folds, const Eigen::Vector3d& witnes
 // step can. Where the step costs an element its certificate (or its figure falls below the worst
 // one), the nodes of that element go back (see the acceptance below).
 void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, Folds& folds, core::ThreadPool& pool,
-                 const OptimizeParams& params, const SlideSurface* surface, OptimizeResult& r, bool until_valid = false) {
+                 const OptimizeParams& params, const SlideSurface* surface, OptimizeResult& r, const JointMode& mode = {}) {
+  const bool until_valid = mode.until_valid;
+  const double valid_floor = mode.valid_floor;
   const bezier::CertifyParams cp;
   auto all_valid = [&q] { return std::all_of(q.begin(), q.end(), [](const Quality& x) { return x.valid; }); };
   if (until_valid && all_valid()) return;
@@ -833,7 +858,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     std::vector<int> ids;
     std::vector<std::size_t> first;  // per variable: its first coordinate in x
     std::vector<SlideFrame> frame;   // per variable: empty for an interior node
-    double select = params.target;
+    double select = mode.folded_only ? -std::numeric_limits<double>::infinity() : params.target;
     if (window > 0) {
       double lowest = std::numeric_limits<double>::infinity();
       for (const Quality& x : q) lowest = std::min(lowest, x.scaled);
@@ -842,8 +867,12 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     // Corner hexes count once every element is certified valid (validity first: with the folds
     // of the start in the objective, the rod's joint rounds left 108 elements not valid).
     const bool with_tri = params.trilinear_guard && std::all_of(q.begin(), q.end(), [](const Quality& x) { return x.valid; });
+    std::vector<char> chosen(s.size(), 0);
+    for (std::size_t e = 0; e < s.size(); ++e)
+      chosen[e] = !(q[e].valid && q[e].scaled >= select && !(with_tri && q[e].trilinear < params.trilinear_target));
+    grow_by_rings(s, mode.rings, chosen);
     for (std::size_t e = 0; e < s.size(); ++e) {
-      if (q[e].valid && q[e].scaled >= select && !(with_tri && q[e].trilinear < params.trilinear_target)) continue;
+      if (!chosen[e]) continue;
       for (const int local : s.points_of(e))
         for (const auto& [id, w] : s.nodes_of(s.block_of(e), local)) {
           if (static_cast<std::size_t>(id) >= var_of.size()) var_of.resize(static_cast<std::size_t>(id) + 1, -1);
@@ -1095,7 +1124,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           t.now[k].trilinear = corner_hex_scaled_jacobian(h);
           if (q[e].valid && !t.now[k].valid && t.now[k].sampled > 0 && !t.made[k]) t.made[k] = t.now[k].witness;
           bad[i] = t.now[k].scaled < before || t.now[k].sampled < before_sampled || (q[e].valid && !t.now[k].valid) ||
-                   trilinear_falls(params, q[e], t.now[k]);
+                   (q[e].valid && t.now[k].scaled < std::min(valid_floor, q[e].scaled)) || trilinear_falls(params, q[e], t.now[k]);
         });
         for (std::size_t i = 0; i < todo.size(); ++i) {
           if (!bad[i]) continue;
@@ -1406,9 +1435,8 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
   }
 }
 
-}  // namespace
-
-OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
+// Throws core::ConfigError for parameters out of range.
+void check(const OptimizeParams& params) {
   if (params.sweeps < 0 || params.sweeps > 100) throw core::ConfigError("tmesh.optimize_sweeps must be in [0, 100], got " + std::to_string(params.sweeps));
   if (params.gauss_points < 1 || params.gauss_points > 10 || params.max_evaluations < 1 || params.grid_points < 2 || params.grid_points > 8)
     throw core::ConfigError("tmesh optimization: gauss_points must be in [1, 10], grid_points in [2, 8] and max_evaluations >= 1");
@@ -1428,30 +1456,82 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     throw core::ConfigError(
         "tmesh optimization: joint_rounds must be in [0, 100], joint_evaluations in [1, 100000], joint_sharpness in (0, 1000], "
         "joint_dense_points in [2, 32] and joint_window in [0, 1]");
+}
+
+// The optimizer's state: the spline and per element its figures and sampled Jacobians at the
+// current control points (kept up to date with every accepted move, so a node's search does not
+// re-evaluate them), the folds joint steps made, and the threads (started once: the per-node
+// batches, ~64 elements, are too small to start threads for each; every item writes its own
+// slot, so results do not depend on the count). Records the figures before into r.
+struct State {
+  Spline s;
+  std::vector<Quality> q;
+  std::vector<std::vector<Eigen::Matrix3d>> samples;
+  core::ThreadPool pool;
+  Folds folds;
+  State(std::vector<TMesh>& blocks, const OptimizeParams& params, OptimizeResult& r) : s(blocks), q(s.size()), samples(s.size()), folds(s.size()) {
+    const bezier::CertifyParams cp;
+    pool.for_each(s.size(), [&](std::size_t e) {
+      const bezier::BezierHex h = s.hex(e);
+      q[e].grid = params.grid_points;
+      sample_figures(h, params, q[e], samples[e]);
+      certify_figure(h, cp, q[e]);
+      q[e].trilinear = corner_hex_scaled_jacobian(h);
+    });
+    summarize(q, &r.min_before, &r.invalid_before);
+    r.min_before = worst_figures(q).second;  // the usual sample's, as min_after (a fold's witness counts in `scaled` only)
+    for (const Quality& x : q) r.element_before.push_back(x.sampled);
+  }
+  // The figures after into r.
+  void finish(OptimizeResult& r) const {
+    summarize(q, &r.min_after_checked, &r.invalid_after);
+    r.min_after = worst_figures(q).second;
+    for (const Quality& x : q) r.element_after.push_back(x.sampled);
+    for (const auto& f : folds) r.folds_between_samples += static_cast<int>(f.size());
+    if (r.folds_between_samples > 0)
+      core::log(std::to_string(r.folds_between_samples) + " folds between the samples (found by the certifier) were sampled around in the joint rounds");
+  }
+};
+
+// repair_folds' rounds: joint rounds on the nodes of the elements not certified valid and of two
+// rings of their neighbours (one ring fixed 2 of the rod's 6 refined folds, two all 6), until a
+// round fixes none. Its own floor: no element certified valid falls below the worst figure of the
+// valid ones at the start (the full rounds bound them by the worst figure, a fold's).
+void repair_phase(State& st, const OptimizeParams& params, const SlideSurface* surface, OptimizeResult& r) {
+  double worst = 0;
+  int start = 0;
+  summarize(st.q, &worst, &start);
+  JointMode mode;
+  mode.until_valid = true, mode.folded_only = true, mode.rings = 2;
+  mode.valid_floor = std::numeric_limits<double>::infinity();
+  for (const Quality& x : st.q)
+    if (x.valid) mode.valid_floor = std::min(mode.valid_floor, x.scaled);
+  for (int round = 0, before = start, after = start; before > 0; ++round, before = after) {
+    {
+      core::LogSection phase("repair " + std::to_string(round + 1) + " of the folds" + (surface ? ": joint rounds sliding" : ": joint rounds"));
+      joint_phase(st.s, st.q, st.samples, st.folds, st.pool, params, surface, r, mode);
+    }
+    summarize(st.q, &worst, &after);
+    core::log("repair " + std::to_string(round + 1) + ": not certified valid " + std::to_string(before) + " -> " + std::to_string(after) +
+              ", the valid elements kept at or above " + std::to_string(mode.valid_floor));
+    if (after >= before) break;
+  }
+}
+
+}  // namespace
+
+OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
+  check(params);
   OptimizeResult r;
-  Spline s(blocks);
-  const bezier::CertifyParams cp;
-  // Per element: its quality and its sampled Jacobians at the current control points (kept up to
-  // date with every accepted move, so a node's search does not re-evaluate them).
-  std::vector<Quality> q(s.size());
-  std::vector<std::vector<Eigen::Matrix3d>> samples(s.size());
+  State st(blocks, params, r);
+  Spline& s = st.s;
+  std::vector<Quality>& q = st.q;
+  std::vector<std::vector<Eigen::Matrix3d>>& samples = st.samples;
+  core::ThreadPool& pool = st.pool;
+  Folds& folds = st.folds;
   std::vector<XRowSamples> x_rows;  // per block (its degree)
   for (const TMesh& t : blocks) x_rows.emplace_back(t.degree, params.gauss_points, params.grid_points);
-  // Threads started once: the per-node batches below (~64 elements) are too small to start
-  // threads for each. Every item writes its own slot, so results do not depend on the count.
-  core::ThreadPool pool;
-  Folds folds(s.size());  // the folds joint steps made, per element (joint_phase)
-  pool.for_each(s.size(), [&](std::size_t e) {
-    const bezier::BezierHex h = s.hex(e);
-    q[e].grid = params.grid_points;
-    sample_figures(h, params, q[e], samples[e]);
-    certify_figure(h, cp, q[e]);
-    q[e].trilinear = corner_hex_scaled_jacobian(h);
-  });
   auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
-  summary(&r.min_before, &r.invalid_before);
-  r.min_before = worst_figures(q).second;  // the usual sample's, as min_after (a fold's witness counts in `scaled` only)
-  for (const Quality& x : q) r.element_before.push_back(x.sampled);
   // Cycles: joint rounds, then per-node sweeps, again from where they stopped (OptimizeParams::cycles).
   for (int cycle = 0; cycle < params.cycles; ++cycle) {
     double cycle_start = 0;
@@ -1467,7 +1547,9 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
       // every kept round raises the worst figure, so sliding can only add to the fixed result.
       if (!surface || params.slide_from != OptimizeParams::SlideFrom::start) {
         core::LogSection phase("joint rounds");
-        joint_phase(s, q, samples, folds, pool, params, nullptr, r, surface && params.slide_from == OptimizeParams::SlideFrom::valid);
+        JointMode mode;
+        mode.until_valid = surface && params.slide_from == OptimizeParams::SlideFrom::valid;
+        joint_phase(s, q, samples, folds, pool, params, nullptr, r, mode);
       }
       if (surface) {
         core::LogSection phase("sliding rounds (joint rounds with surface nodes along the surface)");
@@ -1507,12 +1589,17 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     core::LogSection phase("trilinear pass");
     trilinear_phase(s, q, samples, pool, params, r);
   }
-  summary(&r.min_after_checked, &r.invalid_after);
-  r.min_after = worst_figures(q).second;
-  for (const Quality& x : q) r.element_after.push_back(x.sampled);
-  for (const auto& f : folds) r.folds_between_samples += static_cast<int>(f.size());
-  if (r.folds_between_samples > 0)
-    core::log(std::to_string(r.folds_between_samples) + " folds between the samples (found by the certifier) were sampled around in the joint rounds");
+  st.finish(r);
+  return r;
+}
+
+OptimizeResult repair_folds(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
+  check(params);
+  OptimizeResult r;
+  State st(blocks, params, r);
+  repair_phase(st, params, surface, r);
+  st.finish(r);
+  r.stop_reason = r.invalid_after == 0 ? "all_valid" : "stalled";
   return r;
 }
 

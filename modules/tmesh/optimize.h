@@ -196,4 +196,13 @@ struct OptimizeResult {
 /// points stay fixed). Throws core::ConfigError for parameters out of range.
 OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface = nullptr);
 
+/// Repairs the folds `optimize` left: joint rounds on the nodes of the elements not certified
+/// valid and of two rings of their neighbours, until every element is certified valid or a
+/// round fixes none. No element certified valid loses its certificate or falls below the worst
+/// figure of the valid ones at the start; the rest of the net is not optimized further. Meant for the h-refined net, where each optimized element has 8 (or 64) of
+/// its own with their own control points (volts-tmesh runs it there when folds are left).
+/// stop_reason: "all_valid" or "stalled". Throws core::ConfigError as optimize.
+OptimizeResult repair_folds(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface = nullptr);
+
+
 }  // namespace volts::tmesh
