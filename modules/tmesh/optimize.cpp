@@ -907,6 +907,11 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         if (in[e]) els.push_back(static_cast<int>(e));
     }
     const auto [before, before_sampled] = worst_figures(q, els);
+    // The worst figure of the certified elements: with folds among els, a round that raises it is
+    // kept even if the worst (a fold's) stays (the folds may not fall themselves, see below).
+    double before_rest = std::numeric_limits<double>::infinity();
+    for (const int e : els)
+      if (q[static_cast<std::size_t>(e)].valid) before_rest = std::min(before_rest, q[static_cast<std::size_t>(e)].scaled);
     int invalid_before = 0;
     double tri_before = std::numeric_limits<double>::infinity();
     for (const int e : els) {
@@ -1100,6 +1105,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       std::vector<std::vector<Eigen::Matrix3d>> js;
       double worst = 0, tri = 0;
       int invalid = 0, reverted = 0;
+      double rest = std::numeric_limits<double>::infinity();  // the worst of the elements certified before
       std::vector<std::optional<Eigen::Vector3d>> made;  // per element: a fold the step made (its witness)
     };
     auto try_step = [&](double alpha) {
@@ -1124,7 +1130,8 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           t.now[k].trilinear = corner_hex_scaled_jacobian(h);
           if (q[e].valid && !t.now[k].valid && t.now[k].sampled > 0 && !t.made[k]) t.made[k] = t.now[k].witness;
           bad[i] = t.now[k].scaled < before || t.now[k].sampled < before_sampled || (q[e].valid && !t.now[k].valid) ||
-                   (q[e].valid && t.now[k].scaled < std::min(valid_floor, q[e].scaled)) || trilinear_falls(params, q[e], t.now[k]);
+                   (q[e].valid && t.now[k].scaled < std::min(valid_floor, q[e].scaled)) || trilinear_falls(params, q[e], t.now[k]) ||
+                   (!q[e].valid && t.now[k].scaled < q[e].scaled);
         });
         for (std::size_t i = 0; i < todo.size(); ++i) {
           if (!bad[i]) continue;
@@ -1143,6 +1150,8 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       }
       t.worst = t.tri = std::numeric_limits<double>::infinity();
       for (const auto& x1 : t.now) t.worst = std::min(t.worst, x1.scaled), t.invalid += x1.valid ? 0 : 1, t.tri = std::min(t.tri, x1.trilinear);
+      for (std::size_t k = 0; k < els.size(); ++k)
+        if (q[static_cast<std::size_t>(els[k])].valid) t.rest = std::min(t.rest, t.now[k].scaled);
       return t;
     };
     auto learn = [&](const Step& t) {
@@ -1161,7 +1170,11 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     // With the trilinear guard, a round that only raises the worst corner hex (below the
     // trilinear target) is kept too: no Bézier figure fell below the worst one (reverted above).
     const bool tri_gain = with_tri && tri_before < params.trilinear_target && best.tri > tri_before + 1e-9 && best.worst >= before;
-    const bool accepted = best.worst > before + 1e-9 || best.invalid < invalid_before || tri_gain;
+    // A fold no round fixes would otherwise refuse every round and leave the rest where it is (the
+    // rod at joint_evaluations 325: 3 folded from cycle 1 on, the rest at 0.004; kept, the rest
+    // rose and the folds went too: all valid in cycle 1, 0.488).
+    const bool rest_gain = invalid_before > 0 && best.invalid <= invalid_before && best.worst >= before && best.rest > before_rest + 1e-9;
+    const bool accepted = best.worst > before + 1e-9 || best.invalid < invalid_before || tri_gain || rest_gain;
     const double after = accepted ? best.worst : before;
     const int invalid = accepted ? best.invalid : invalid_before, reverted = best.reverted;
     set_all(accepted ? best.y : x0, true);
@@ -1188,7 +1201,8 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     ++r.joint_rounds;
     refused_ids.clear();  // the nodes moved: the same selection is a new problem
     const bool progress = (invalid_before > 0 && invalid_before - invalid >= std::max(1.0, params.min_fixed_rel * invalid_before)) ||
-                          after >= before + params.min_gain || (tri_gain && best.tri >= tri_before + params.min_gain);
+                          after >= before + params.min_gain || (tri_gain && best.tri >= tri_before + params.min_gain) ||
+                          (rest_gain && best.rest >= before_rest + params.min_gain);
     if (!progress || (until_valid && all_valid())) return;
   }
 }
@@ -1537,6 +1551,14 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     double cycle_start = 0;
     int cycle_invalid = 0;
     summary(&cycle_start, &cycle_invalid);
+    // With folds left, a cycle that raised the certified elements' worst figure is progress too.
+    auto worst_valid = [&q] {
+      double w = std::numeric_limits<double>::infinity();
+      for (const Quality& x : q)
+        if (x.valid) w = std::min(w, x.scaled);
+      return w;
+    };
+    const double rest_start = worst_valid();
     r.stop_reason.clear();
     if (params.sweeps > 0 && cycle > 0) {
       core::LogSection phase("cycle " + std::to_string(cycle + 1) + ": joint rounds" + (surface ? " sliding" : ""));
@@ -1577,7 +1599,9 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
       continue;
     }
     if (r.stop_reason == "no_element_below_target") break;
-    if (cycle_invalid_end >= cycle_invalid && cycle_end < cycle_start + params.cycle_min_gain) break;
+    if (cycle_invalid_end >= cycle_invalid && cycle_end < cycle_start + params.cycle_min_gain &&
+        !(cycle_invalid_end > 0 && worst_valid() >= rest_start + params.cycle_min_gain))
+      break;
   }
   if (r.stop_reason.empty()) {
     r.stop_reason = params.sweeps == 0 ? "disabled" : "sweep_bound";

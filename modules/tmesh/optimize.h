@@ -26,7 +26,9 @@
 // it supports; it is a minimum (not smooth), so NLopt's derivative-free BOBYQA maximizes it. A
 // move (or a joint round) is kept only if the worst scaled Jacobian of its elements rises and
 // none of them loses its certified det J > 0 (bezier::certify), so optimization never makes the
-// certified validity worse. After each cycle the elements are checked on a denser grid
+// certified validity worse; with elements not certified valid among them, a joint round that
+// raises the worst figure of the certified ones is kept too, no fold falling below its own figure
+// (a fold no round fixes would otherwise hold the rest where it is). After each cycle the elements are checked on a denser grid
 // (OptimizeParams::check_points): where the field dips between the samples, the element is sampled
 // on that grid from then on. A trilinear pass follows (the paper's eq. (1)–(2) figure of the
 // T-mesh elements, the hexes of their corner points): see OptimizeParams::trilinear_sweeps.
