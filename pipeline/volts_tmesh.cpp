@@ -229,7 +229,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
                          {"stop_reason", opt.stop_reason}, {"sweeps_cut_at_node_bound", opt.sweeps_cut_at_node_bound},
                          {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds}, {"cycles", opt.cycles},
                          {"surface_nodes_slid", opt.surface_nodes_slid}, {"elements_on_check_grid", opt.elements_on_check_grid},
-                         {"folds_between_samples", opt.folds_between_samples}, 
+                         {"folds_between_samples", opt.folds_between_samples},
                          {"bezier_min_scaled_jacobian_after_checked", opt.min_after_checked},
                          {"worst_blocks", worst}};
   fig["optimization"]["refined_trilinear_pass"] = refined_pass;

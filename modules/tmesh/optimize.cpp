@@ -844,11 +844,9 @@ struct JointMode {
 // one), the nodes of that element go back (see the acceptance below).
 void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, Folds& folds, core::ThreadPool& pool,
                  const OptimizeParams& params, const SlideSurface* surface, OptimizeResult& r, const JointMode& mode = {}) {
-  const bool until_valid = mode.until_valid;
-  const double valid_floor = mode.valid_floor;
   const bezier::CertifyParams cp;
   auto all_valid = [&q] { return std::all_of(q.begin(), q.end(), [](const Quality& x) { return x.valid; }); };
-  if (until_valid && all_valid()) return;
+  if (mode.until_valid && all_valid()) return;
   double window = 0;  // > 0: only elements within it of the worst figure (OptimizeParams::joint_window)
   std::vector<int> refused_ids;  // the variables of the last refused round
   for (int round = 0; round < params.joint_rounds; ++round) {
@@ -1130,7 +1128,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           t.now[k].trilinear = corner_hex_scaled_jacobian(h);
           if (q[e].valid && !t.now[k].valid && t.now[k].sampled > 0 && !t.made[k]) t.made[k] = t.now[k].witness;
           bad[i] = t.now[k].scaled < before || t.now[k].sampled < before_sampled || (q[e].valid && !t.now[k].valid) ||
-                   (q[e].valid && t.now[k].scaled < std::min(valid_floor, q[e].scaled)) || trilinear_falls(params, q[e], t.now[k]) ||
+                   (q[e].valid && t.now[k].scaled < std::min(mode.valid_floor, q[e].scaled)) || trilinear_falls(params, q[e], t.now[k]) ||
                    (!q[e].valid && t.now[k].scaled < q[e].scaled);
         });
         for (std::size_t i = 0; i < todo.size(); ++i) {
@@ -1203,7 +1201,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     const bool progress = (invalid_before > 0 && invalid_before - invalid >= std::max(1.0, params.min_fixed_rel * invalid_before)) ||
                           after >= before + params.min_gain || (tri_gain && best.tri >= tri_before + params.min_gain) ||
                           (rest_gain && best.rest >= before_rest + params.min_gain);
-    if (!progress || (until_valid && all_valid())) return;
+    if (!progress || (mode.until_valid && all_valid())) return;
   }
 }
 

@@ -28,7 +28,8 @@
 // none of them loses its certified det J > 0 (bezier::certify), so optimization never makes the
 // certified validity worse; with elements not certified valid among them, a joint round that
 // raises the worst figure of the certified ones is kept too, no fold falling below its own figure
-// (a fold no round fixes would otherwise hold the rest where it is). After each cycle the elements are checked on a denser grid
+// (a fold no round fixes would otherwise hold the rest where it is). After each cycle the
+// elements are checked on a denser grid
 // (OptimizeParams::check_points): where the field dips between the samples, the element is sampled
 // on that grid from then on. A trilinear pass follows (the paper's eq. (1)–(2) figure of the
 // T-mesh elements, the hexes of their corner points): see OptimizeParams::trilinear_sweeps.
@@ -201,10 +202,10 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
 /// Repairs the folds `optimize` left: joint rounds on the nodes of the elements not certified
 /// valid and of two rings of their neighbours, until every element is certified valid or a
 /// round fixes none. No element certified valid loses its certificate or falls below the worst
-/// figure of the valid ones at the start; the rest of the net is not optimized further. Meant for the h-refined net, where each optimized element has 8 (or 64) of
-/// its own with their own control points (volts-tmesh runs it there when folds are left).
+/// figure of the valid ones at the start; the rest of the net is not optimized further. Meant
+/// for the h-refined net, where each optimized element has 8 (or 64) of its own with their own
+/// control points (volts-tmesh runs it there when folds are left).
 /// stop_reason: "all_valid" or "stalled". Throws core::ConfigError as optimize.
 OptimizeResult repair_folds(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface = nullptr);
-
 
 }  // namespace volts::tmesh
