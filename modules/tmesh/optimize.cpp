@@ -21,6 +21,7 @@
 #include "core/errors.h"
 #include "core/log.h"
 #include "core/parallel.h"
+#include "tmesh/jacobian_kernels.h"
 
 namespace volts::tmesh {
 
@@ -573,29 +574,9 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
 }
 
 // Bernstein values and derivatives of one degree at abscissae t.
-struct GridAxis {
-  int n = 0;                         // points per direction of the hex: degree + 1
-  std::vector<double> t;             // abscissae
-  std::vector<double> B, dB;         // B[i * n + a] = B_a(t_i)
-};
-
-GridAxis grid_axis(int degree, const std::vector<double>& t) {
-  GridAxis g;
-  g.n = degree + 1, g.t = t;
-  for (const double x : t) {
-    Eigen::VectorXd d;
-    const Eigen::VectorXd b = bezier::bernstein_basis(degree, x, &d);
-    for (int a = 0; a < g.n; ++a) g.B.push_back(b[a]), g.dB.push_back(d[a]);
-  }
-  return g;
-}
-
-// A tensor grid of sample points t_i × t_j × t_k in the element's parameters (i fastest), its
-// abscissae per axis.
-struct Grid3 {
-  GridAxis u, v, w;
-  std::size_t size() const { return u.t.size() * v.t.size() * w.t.size(); }
-};
+using kernels::Grid3;
+using kernels::GridAxis;
+using kernels::grid_axis;
 
 // The joint phase's sample grids: the uniform grid (the 8 corners at grid_points 2) and the n^3 Gauss points (what the sampled
 // figure looks at) or, for elements not certified valid (a fold can hide between those), a
@@ -617,89 +598,7 @@ Grid3 witness_grid(int degree, const Eigen::Vector3d& witness) {
   return {grid_axis(degree, t[0]), grid_axis(degree, t[1]), grid_axis(degree, t[2])};
 }
 
-// Jacobians of a polynomial hex (points Q[a + n(b + nc)]) at the points of grid g, appended to
-// J; by sum factorization, one axis at a time (a twentieth of the operations of a sum over the
-// points per sample for cubics).
-void grid_jacobians(const std::vector<Eigen::Vector3d>& Q, const Grid3& g, std::vector<Eigen::Matrix3d>& J) {
-  const std::size_t n = static_cast<std::size_t>(g.u.n), mu = g.u.t.size(), mv = g.v.t.size(), mw = g.w.t.size();
-  thread_local std::vector<Eigen::Vector3d> W0, W1, V00, V10, V01;
-  W0.assign(n * n * mw, Eigen::Vector3d::Zero()), W1.assign(W0.size(), Eigen::Vector3d::Zero());
-  for (std::size_t k = 0; k < mw; ++k)  // w: W[a + n(b + nk)]
-    for (std::size_t c = 0; c < n; ++c) {
-      const double bc = g.w.B[k * n + c], dc = g.w.dB[k * n + c];
-      for (std::size_t ab = 0; ab < n * n; ++ab) W0[ab + n * n * k] += bc * Q[ab + n * n * c], W1[ab + n * n * k] += dc * Q[ab + n * n * c];
-    }
-  V00.assign(n * mv * mw, Eigen::Vector3d::Zero()), V10.assign(V00.size(), Eigen::Vector3d::Zero()), V01.assign(V00.size(), Eigen::Vector3d::Zero());
-  for (std::size_t k = 0; k < mw; ++k)  // v: V[a + n(j + mv k)]
-    for (std::size_t j = 0; j < mv; ++j)
-      for (std::size_t b = 0; b < n; ++b) {
-        const double bb = g.v.B[j * n + b], db = g.v.dB[j * n + b];
-        for (std::size_t a = 0; a < n; ++a) {
-          const std::size_t in = a + n * (b + n * k), out = a + n * (j + mv * k);
-          V00[out] += bb * W0[in], V10[out] += db * W0[in], V01[out] += bb * W1[in];
-        }
-      }
-  for (std::size_t k = 0; k < mw; ++k)  // u
-    for (std::size_t j = 0; j < mv; ++j)
-      for (std::size_t i = 0; i < mu; ++i) {
-        Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-        for (std::size_t a = 0; a < n; ++a) {
-          const std::size_t in = a + n * (j + mv * k);
-          M.col(0) += g.u.dB[i * n + a] * V00[in], M.col(1) += g.u.B[i * n + a] * V10[in], M.col(2) += g.u.B[i * n + a] * V01[in];
-        }
-        J.push_back(M);
-      }
-}
-
-// The transpose of grid_jacobians: adds Σ_s tr(G_sᵀ ∂J_s/∂Q) to dQ for the grid's samples
-// G[first], G[first + 1], ... (G_s = weight × ∂(scaled Jacobian)/∂J).
-void grid_pull_back(const std::vector<Eigen::Matrix3d>& G, std::size_t first, const Grid3& g, std::vector<Eigen::Vector3d>& dQ) {
-  const std::size_t n = static_cast<std::size_t>(g.u.n), mu = g.u.t.size(), mv = g.v.t.size(), mw = g.w.t.size();
-  thread_local std::vector<Eigen::Vector3d> W0, W1, V00, V10, V01;
-  V00.assign(n * mv * mw, Eigen::Vector3d::Zero()), V10.assign(V00.size(), Eigen::Vector3d::Zero()), V01.assign(V00.size(), Eigen::Vector3d::Zero());
-  for (std::size_t k = 0; k < mw; ++k)
-    for (std::size_t j = 0; j < mv; ++j)
-      for (std::size_t i = 0; i < mu; ++i) {
-        const Eigen::Matrix3d& M = G[first + i + mu * (j + mv * k)];
-        for (std::size_t a = 0; a < n; ++a) {
-          const std::size_t out = a + n * (j + mv * k);
-          V00[out] += g.u.dB[i * n + a] * M.col(0), V10[out] += g.u.B[i * n + a] * M.col(1), V01[out] += g.u.B[i * n + a] * M.col(2);
-        }
-      }
-  W0.assign(n * n * mw, Eigen::Vector3d::Zero()), W1.assign(W0.size(), Eigen::Vector3d::Zero());
-  for (std::size_t k = 0; k < mw; ++k)
-    for (std::size_t j = 0; j < mv; ++j)
-      for (std::size_t b = 0; b < n; ++b) {
-        const double bb = g.v.B[j * n + b], db = g.v.dB[j * n + b];
-        for (std::size_t a = 0; a < n; ++a) {
-          const std::size_t in = a + n * (j + mv * k), out = a + n * (b + n * k);
-          W0[out] += bb * V00[in] + db * V10[in], W1[out] += bb * V01[in];
-        }
-      }
-  for (std::size_t k = 0; k < mw; ++k)
-    for (std::size_t c = 0; c < n; ++c) {
-      const double bc = g.w.B[k * n + c], dc = g.w.dB[k * n + c];
-      for (std::size_t ab = 0; ab < n * n; ++ab) dQ[ab + n * n * c] += bc * W0[ab + n * n * k] + dc * W1[ab + n * n * k];
-    }
-}
-
-// Scaled Jacobian det J / (|J0||J1||J2|) and its derivative G = ∂/∂J (0 where a column vanishes):
-// ∂det/∂J_c is the cross product of the other two columns.
-double scaled_jacobian_gradient(const Eigen::Matrix3d& J, Eigen::Matrix3d& G) {
-  const Eigen::Vector3d n2(J.col(0).squaredNorm(), J.col(1).squaredNorm(), J.col(2).squaredNorm());
-  const double D = std::sqrt(n2[0] * n2[1] * n2[2]);
-  if (!(D > 0)) {
-    G.setZero();
-    return 0;
-  }
-  Eigen::Matrix3d cof;
-  cof.col(0) = J.col(1).cross(J.col(2));
-  cof.col(1) = J.col(2).cross(J.col(0));
-  cof.col(2) = J.col(0).cross(J.col(1));
-  const double sj = J.col(0).dot(cof.col(0)) / D;
-  for (int c = 0; c < 3; ++c) G.col(c) = cof.col(c) / D - sj * J.col(c) / n2[c];
-  return sj;
-}
+using kernels::scaled_jacobian_gradient;
 
 // A surface node's frame for sliding. Away from sharp curves: its tangent plane at the closest
 // surface point (two unit vectors t1, t2), its offset from the surface (kept), and its reach: half
@@ -952,7 +851,8 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     // blocks is the common case; the table is per degree).
     std::vector<std::vector<double>> sj(els.size());
     std::vector<std::vector<TriSample>> tri(els.size());  // corner-hex samples below the trilinear target (trilinear_guard)
-    std::vector<std::vector<Eigen::Matrix3d>> dsj(els.size());
+    std::vector<kernels::SampleMatrices> dsj(els.size());
+    std::vector<std::vector<double>> ew(els.size());  // per sample exp(-β (sj - lo)), for the gradient
     std::vector<std::vector<Eigen::Vector3d>> dP(els.size());
     // Sample grids per degree, the usual ones and the dense one of elements not certified valid.
     // The folds between an element's samples (Folds) add the points around them.
@@ -987,11 +887,14 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         const std::size_t e = static_cast<std::size_t>(els[k]);
         thread_local std::vector<Eigen::Vector3d> points;
         s.hex_points(e, points);
-        std::vector<Eigen::Matrix3d>& J = dsj[k];  // the Jacobians, then (gradient pass) ∂SJ/∂J
-        J.clear();
-        for (const Grid3* g : grids_of[k]) grid_jacobians(points, *g, J);
-        sj[k].resize(J.size());
-        for (std::size_t i = 0; i < J.size(); ++i) sj[k][i] = bezier::scaled_jacobian(J[i]);
+        kernels::SampleMatrices& J = dsj[k];  // the Jacobians, then (gradient pass) ∂SJ/∂J
+        std::size_t total = 0;
+        for (const Grid3* g : grids_of[k]) total += g->size();
+        J.resize(total);
+        std::size_t at = 0;
+        for (const Grid3* g : grids_of[k]) kernels::grid_jacobians(points.data(), *g, J, at), at += g->size();
+        sj[k].resize(total);
+        kernels::scaled_jacobians(J, sj[k].data());
         if (with_tri) tri_samples(points, s.degree_of(e), params, tri[k]);
       });
       // The soft minimum, its sums per element on the pool (added in order: reproducible).
@@ -1003,7 +906,8 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       const double lo = *std::min_element(local_min.begin(), local_min.end());
       pool.for_each(els.size(), [&](std::size_t k) {
         double z = 0;
-        for (const double x1 : sj[k]) z += std::exp(-beta * (x1 - lo));
+        ew[k].resize(sj[k].size());
+        for (std::size_t i = 0; i < sj[k].size(); ++i) z += ew[k][i] = std::exp(-beta * (sj[k][i] - lo));
         for (const TriSample& t : tri[k]) z += std::exp(-beta * (t.value - lo));
         local_sum[k] = z;
       });
@@ -1020,18 +924,15 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           }
           const std::size_t n = static_cast<std::size_t>(s.degree_of(e)) + 1;
           dP[k].assign(n * n * n, Eigen::Vector3d::Zero());
-          for (std::size_t i = 0; i < sj[k].size(); ++i) {
-            if (beta * (sj[k][i] - lo) > 20) {
-              dsj[k][i].setZero();
-              continue;
-            }
-            const Eigen::Matrix3d J = dsj[k][i];
-            scaled_jacobian_gradient(J, dsj[k][i]);
-            dsj[k][i] *= std::exp(-beta * (sj[k][i] - lo)) / Z;
-          }
+          thread_local std::vector<double> weight;
+          weight.resize(sj[k].size());
+          for (std::size_t i = 0; i < sj[k].size(); ++i) weight[i] = beta * (sj[k][i] - lo) > 20 ? 0.0 : ew[k][i] / Z;
+          kernels::weighted_gradients(dsj[k], weight.data());
           std::size_t first = 0;
-          for (const Grid3* g : grids_of[k]) {
-            grid_pull_back(dsj[k], first, *g, dP[k]);
+          for (const Grid3* g : grids_of[k]) {  // a grid whose weights are all 0 adds nothing
+            if (std::any_of(weight.begin() + static_cast<std::ptrdiff_t>(first), weight.begin() + static_cast<std::ptrdiff_t>(first + g->size()),
+                            [](double x) { return x != 0.0; }))
+              kernels::grid_pull_back(dsj[k], first, *g, dP[k].data());
             first += g->size();
           }
           for (const TriSample& t : tri[k]) {

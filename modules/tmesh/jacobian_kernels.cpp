@@ -1,0 +1,300 @@
+#include "tmesh/jacobian_kernels.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bezier/bernstein.h"
+
+// Every kernel also in an AVX2 version, chosen when the program loads (no FMA: see the header).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(VOLTS_NO_TARGET_CLONES)
+#define VOLTS_KERNEL __attribute__((target_clones("avx2", "default")))
+#else
+#define VOLTS_KERNEL
+#endif
+// The kernels' helpers are inlined into every version (a helper called out of line would run the
+// default version's code).
+#define VOLTS_INLINE inline __attribute__((always_inline))
+
+namespace volts::tmesh::kernels {
+
+static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double), "arrays of Vector3d are read as arrays of doubles");
+
+GridAxis grid_axis(int degree, const std::vector<double>& t) {
+  GridAxis g;
+  g.n = degree + 1, g.t = t;
+  for (const double x : t) {
+    Eigen::VectorXd d;
+    const Eigen::VectorXd b = bezier::bernstein_basis(degree, x, &d);
+    for (int a = 0; a < g.n; ++a) g.B.push_back(b[a]), g.dB.push_back(d[a]);
+  }
+  const std::size_t n = static_cast<std::size_t>(g.n), m = t.size();
+  g.BT.resize(n * m), g.dBT.resize(n * m);
+  for (std::size_t i = 0; i < m; ++i)
+    for (std::size_t a = 0; a < n; ++a) g.BT[a * m + i] = g.B[i * n + a], g.dBT[a * m + i] = g.dB[i * n + a];
+  return g;
+}
+
+Eigen::Matrix3d SampleMatrices::matrix(std::size_t s) const {
+  Eigen::Matrix3d m;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) m(r, c) = entry(r, c)[s];
+  return m;
+}
+
+void SampleMatrices::set(std::size_t s, const Eigen::Matrix3d& m) {
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) entry(r, c)[s] = m(r, c);
+}
+
+namespace {
+
+constexpr std::size_t kMaxFunctions = 16;  // Bernstein functions per direction (degree 15)
+
+// The sums below keep their partial sums in registers, 8 outputs at a time: accumulating in the
+// output array itself reloads what the previous term stored, and those stalls took most of the
+// time (loops here are short: 4–48 values).
+
+// out[t] = Σ_{i<m} coef[i] in[i stride + t] for t < len (i in order, from zero).
+template <std::size_t W>
+VOLTS_INLINE void sum_chunk(std::size_t m, const double* __restrict coef, const double* __restrict in, std::size_t stride, double* __restrict out) {
+  double acc[W];
+  for (std::size_t t = 0; t < W; ++t) acc[t] = 0.0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const double c = coef[i];
+    const double* __restrict x = in + i * stride;
+    for (std::size_t t = 0; t < W; ++t) acc[t] += c * x[t];
+  }
+  for (std::size_t t = 0; t < W; ++t) out[t] = acc[t];
+}
+
+template <std::size_t Len = 0>
+VOLTS_INLINE void sum(std::size_t m, const double* coef, const double* in, std::size_t stride, std::size_t len, double* out) {
+  if constexpr (Len > 0 && Len <= 48) return sum_chunk<Len>(m, coef, in, stride, out);
+  std::size_t t = 0;
+  for (; t + 8 <= len; t += 8) sum_chunk<8>(m, coef, in + t, stride, out + t);
+  for (; t < len; ++t) sum_chunk<1>(m, coef, in + t, stride, out + t);
+}
+
+// out[t] = init[t] + Σ_{i<m} (ca[i] x[i stride + t] + cb[i] y[i stride + t]) (init null: from zero).
+template <std::size_t W>
+VOLTS_INLINE void pair_sum_chunk(std::size_t m, const double* __restrict ca, const double* __restrict x, const double* __restrict cb,
+                           const double* __restrict y, std::size_t stride, const double* init, double* out) {
+  double acc[W];
+  for (std::size_t t = 0; t < W; ++t) acc[t] = init ? init[t] : 0.0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const double a = ca[i], b = cb[i];
+    const double* __restrict xi = x + i * stride;
+    const double* __restrict yi = y + i * stride;
+    for (std::size_t t = 0; t < W; ++t) acc[t] += a * xi[t] + b * yi[t];
+  }
+  for (std::size_t t = 0; t < W; ++t) out[t] = acc[t];
+}
+
+template <std::size_t Len = 0>
+VOLTS_INLINE void pair_sum(std::size_t m, const double* ca, const double* x, const double* cb, const double* y, std::size_t stride, std::size_t len,
+                     const double* init, double* out) {
+  if constexpr (Len > 0 && Len <= 48) return pair_sum_chunk<Len>(m, ca, x, cb, y, stride, init, out);
+  std::size_t t = 0;
+  for (; t + 8 <= len; t += 8) pair_sum_chunk<8>(m, ca, x + t, cb, y + t, stride, init ? init + t : nullptr, out + t);
+  for (; t < len; ++t) pair_sum_chunk<1>(m, ca, x + t, cb, y + t, stride, init ? init + t : nullptr, out + t);
+}
+
+// o[i] = Σ_a T[a m + i] x[a] (a in order, from zero) for i < m.
+template <std::size_t N>
+VOLTS_INLINE void contract_n(std::size_t m, const double* __restrict T, const double* __restrict x, double* __restrict o) {
+  for (std::size_t i = 0; i < m; ++i) {
+    double acc = 0.0;
+    for (std::size_t a = 0; a < N; ++a) acc += T[a * m + i] * x[a];
+    o[i] = acc;
+  }
+}
+
+VOLTS_INLINE void contract(std::size_t n, std::size_t m, const double* __restrict T, const double* __restrict x, double* __restrict o) {
+  switch (n) {
+    case 2: return contract_n<2>(m, T, x, o);
+    case 3: return contract_n<3>(m, T, x, o);
+    case 4: return contract_n<4>(m, T, x, o);
+    case 5: return contract_n<5>(m, T, x, o);
+    default:
+      for (std::size_t i = 0; i < m; ++i) {
+        double acc = 0.0;
+        for (std::size_t a = 0; a < n; ++a) acc += T[a * m + i] * x[a];
+        o[i] = acc;
+      }
+  }
+}
+
+}  // namespace
+
+// Layouts (doubles): Q and W per w-layer k: [b][a][xyz] (L = 3n² doubles); V per (k, j): [a][xyz]
+// (R = 3n doubles). Sums run over the contracted index in order from zero, as the Eigen code did.
+namespace {
+// N > 0: the number of Bernstein functions per direction known at compile time (the loops then
+// have fixed lengths); 0: g.u.n.
+template <std::size_t N>
+VOLTS_INLINE void grid_jacobians_impl(const Eigen::Vector3d* Q, const Grid3& g, SampleMatrices& J, std::size_t first) {
+  constexpr std::size_t L_ = 3 * N * N, R_ = 3 * N;
+  const std::size_t n = N > 0 ? N : static_cast<std::size_t>(g.u.n), mu = g.u.t.size(), mv = g.v.t.size(), mw = g.w.t.size();
+  const std::size_t L = 3 * n * n, R = 3 * n;
+  const double* q = Q->data();
+  thread_local std::vector<double> W0, W1, V00, V10, V01;
+  W0.resize(L * mw), W1.resize(L * mw);
+  for (std::size_t k = 0; k < mw; ++k) {  // w
+    sum<L_>(n, g.w.B.data() + k * n, q, L, L, W0.data() + L * k);
+    sum<L_>(n, g.w.dB.data() + k * n, q, L, L, W1.data() + L * k);
+  }
+  V00.resize(R * mv * mw), V10.resize(V00.size()), V01.resize(V00.size());
+  for (std::size_t k = 0; k < mw; ++k)  // v
+    for (std::size_t j = 0; j < mv; ++j) {
+      const std::size_t at = R * (j + mv * k);
+      sum<R_>(n, g.v.B.data() + j * n, W0.data() + L * k, R, R, V00.data() + at);
+      sum<R_>(n, g.v.dB.data() + j * n, W0.data() + L * k, R, R, V10.data() + at);
+      sum<R_>(n, g.v.B.data() + j * n, W1.data() + L * k, R, R, V01.data() + at);
+    }
+  const double* coef[3] = {g.u.dBT.data(), g.u.BT.data(), g.u.BT.data()};  // column c of J: d/du, d/dv, d/dw
+  const std::vector<double>* V[3] = {&V00, &V10, &V01};
+  for (std::size_t k = 0; k < mw; ++k)  // u
+    for (std::size_t j = 0; j < mv; ++j) {
+      const std::size_t s0 = first + mu * (j + mv * k);
+      for (int c = 0; c < 3; ++c) {
+        const double* v = V[c]->data() + R * (j + mv * k);
+        for (int r = 0; r < 3; ++r) {
+          double x[kMaxFunctions];
+          for (std::size_t a = 0; a < n; ++a) x[a] = v[3 * a + static_cast<std::size_t>(r)];
+          if constexpr (N > 0)
+            contract_n<N>(mu, coef[c], x, J.entry(r, c) + s0);
+          else
+            contract(n, mu, coef[c], x, J.entry(r, c) + s0);
+        }
+      }
+    }
+}
+}  // namespace
+
+VOLTS_KERNEL void grid_jacobians(const Eigen::Vector3d* Q, const Grid3& g, SampleMatrices& J, std::size_t first) {
+  if (g.u.n == 4) return grid_jacobians_impl<4>(Q, g, J, first);  // cubic: the pipeline's degree
+  grid_jacobians_impl<0>(Q, g, J, first);
+}
+
+double scaled_jacobian_gradient(const Eigen::Matrix3d& J, Eigen::Matrix3d& G) {
+  const Eigen::Vector3d n2(J.col(0).squaredNorm(), J.col(1).squaredNorm(), J.col(2).squaredNorm());
+  const double D = std::sqrt(n2[0] * n2[1] * n2[2]);
+  if (!(D > 0)) {
+    G.setZero();
+    return 0;
+  }
+  Eigen::Matrix3d cof;
+  cof.col(0) = J.col(1).cross(J.col(2));
+  cof.col(1) = J.col(2).cross(J.col(0));
+  cof.col(2) = J.col(0).cross(J.col(1));
+  const double sj = J.col(0).dot(cof.col(0)) / D;
+  for (int c = 0; c < 3; ++c) G.col(c) = cof.col(c) / D - sj * J.col(c) / n2[c];
+  return sj;
+}
+
+// bezier::scaled_jacobian per sample, written without branches (both sides computed, then chosen)
+// so that the loop vectorizes; the arithmetic is Eigen's: norms (x² + y²) + z², the determinant by
+// its first-row expansion, the product (n0 n1) n2.
+VOLTS_KERNEL void scaled_jacobians(const SampleMatrices& J, double* out) {
+  const std::size_t m = J.size();
+  const double *__restrict m00 = J.entry(0, 0), *__restrict m10 = J.entry(1, 0), *__restrict m20 = J.entry(2, 0);
+  const double *__restrict m01 = J.entry(0, 1), *__restrict m11 = J.entry(1, 1), *__restrict m21 = J.entry(2, 1);
+  const double *__restrict m02 = J.entry(0, 2), *__restrict m12 = J.entry(1, 2), *__restrict m22 = J.entry(2, 2);
+  for (std::size_t s = 0; s < m; ++s) {
+    const double n0 = std::sqrt(m00[s] * m00[s] + m10[s] * m10[s] + m20[s] * m20[s]);
+    const double n1 = std::sqrt(m01[s] * m01[s] + m11[s] * m11[s] + m21[s] * m21[s]);
+    const double n2 = std::sqrt(m02[s] * m02[s] + m12[s] * m12[s] + m22[s] * m22[s]);
+    const double det = m00[s] * (m11[s] * m22[s] - m12[s] * m21[s]) - m01[s] * (m10[s] * m22[s] - m12[s] * m20[s]) +
+                       m02[s] * (m10[s] * m21[s] - m11[s] * m20[s]);
+    const double v = det / (n0 * n1 * n2);
+    const double clamped = v < -1.0 ? -1.0 : (1.0 < v ? 1.0 : v);
+    out[s] = (n0 == 0.0 || n1 == 0.0 || n2 == 0.0) ? 0.0 : clamped;
+  }
+}
+
+// ∂(det J / (|J0||J1||J2|))/∂J = cof/D - sj J_c/|J_c|², ∂det/∂J_c the cross product of the other
+// two columns; per entry as the Eigen code computed it: (cof / D - (sj J) / |J_c|²) · weight.
+VOLTS_KERNEL void weighted_gradients(SampleMatrices& J, const double* weight) {
+  const std::size_t m = J.size();
+  double *__restrict m00 = J.entry(0, 0), *__restrict m10 = J.entry(1, 0), *__restrict m20 = J.entry(2, 0);
+  double *__restrict m01 = J.entry(0, 1), *__restrict m11 = J.entry(1, 1), *__restrict m21 = J.entry(2, 1);
+  double *__restrict m02 = J.entry(0, 2), *__restrict m12 = J.entry(1, 2), *__restrict m22 = J.entry(2, 2);
+  // Blocks of 8 samples; a block whose weights are all 0 (most of them: the soft minimum's weights
+  // fall off fast) is only zeroed.
+  for (std::size_t s0 = 0; s0 < m; s0 += 8) {
+    const std::size_t end = std::min(m, s0 + 8);
+    bool any = false;
+    for (std::size_t s = s0; s < end; ++s) any = any || weight[s] != 0.0;
+    if (!any) {
+      for (double* p : {m00, m10, m20, m01, m11, m21, m02, m12, m22}) std::fill(p + s0, p + end, 0.0);
+      continue;
+    }
+    for (std::size_t s = s0; s < end; ++s) {
+      const double x0 = m00[s], y0 = m10[s], z0 = m20[s], x1 = m01[s], y1 = m11[s], z1 = m21[s], x2 = m02[s], y2 = m12[s], z2 = m22[s];
+      const double q0 = x0 * x0 + y0 * y0 + z0 * z0, q1 = x1 * x1 + y1 * y1 + z1 * z1, q2 = x2 * x2 + y2 * y2 + z2 * z2;
+      const double D = std::sqrt(q0 * q1 * q2);
+      // cof_c: col1 × col2, col2 × col0, col0 × col1
+      const double a0 = y1 * z2 - z1 * y2, b0 = z1 * x2 - x1 * z2, c0 = x1 * y2 - y1 * x2;
+      const double a1 = y2 * z0 - z2 * y0, b1 = z2 * x0 - x2 * z0, c1 = x2 * y0 - y2 * x0;
+      const double a2 = y0 * z1 - z0 * y1, b2 = z0 * x1 - x0 * z1, c2 = x0 * y1 - y0 * x1;
+      const double sj = (x0 * a0 + y0 * b0 + z0 * c0) / D;
+      const double w = weight[s];
+      const bool keep = D > 0 && w != 0.0;
+      m00[s] = keep ? (a0 / D - sj * x0 / q0) * w : 0.0;
+      m10[s] = keep ? (b0 / D - sj * y0 / q0) * w : 0.0;
+      m20[s] = keep ? (c0 / D - sj * z0 / q0) * w : 0.0;
+      m01[s] = keep ? (a1 / D - sj * x1 / q1) * w : 0.0;
+      m11[s] = keep ? (b1 / D - sj * y1 / q1) * w : 0.0;
+      m21[s] = keep ? (c1 / D - sj * z1 / q1) * w : 0.0;
+      m02[s] = keep ? (a2 / D - sj * x2 / q2) * w : 0.0;
+      m12[s] = keep ? (b2 / D - sj * y2 / q2) * w : 0.0;
+      m22[s] = keep ? (c2 / D - sj * z2 / q2) * w : 0.0;
+    }
+  }
+}
+
+// Layouts (doubles): V per (k, j): [xyz][a]; W per w-layer k: [b][xyz][a], then transposed to
+// dQ's [b][a][xyz]. Each sum in the order of the Eigen code (i, then j, then k, from zero; dQ
+// from its value).
+namespace {
+template <std::size_t N>
+VOLTS_INLINE void grid_pull_back_impl(const SampleMatrices& G, std::size_t first, const Grid3& g, Eigen::Vector3d* dQ) {
+  constexpr std::size_t L_ = 3 * N * N, R_ = 3 * N;
+  const std::size_t n = N > 0 ? N : static_cast<std::size_t>(g.u.n), mu = g.u.t.size(), mv = g.v.t.size(), mw = g.w.t.size();
+  const std::size_t L = 3 * n * n, R = 3 * n;
+  thread_local std::vector<double> W0, W1, V00, V10, V01, T0, T1;
+  V00.resize(R * mv * mw), V10.resize(V00.size()), V01.resize(V00.size());
+  for (std::size_t k = 0; k < mw; ++k)  // u: V[r][a] = Σ_i G(r, c)[s] B_a(t_i)
+    for (std::size_t j = 0; j < mv; ++j) {
+      const std::size_t s0 = first + mu * (j + mv * k), at = R * (j + mv * k);
+      for (int r = 0; r < 3; ++r) {
+        const std::size_t ra = at + n * static_cast<std::size_t>(r);
+        sum<N>(mu, G.entry(r, 0) + s0, g.u.dB.data(), n, n, V00.data() + ra);
+        sum<N>(mu, G.entry(r, 1) + s0, g.u.B.data(), n, n, V10.data() + ra);
+        sum<N>(mu, G.entry(r, 2) + s0, g.u.B.data(), n, n, V01.data() + ra);
+      }
+    }
+  W0.resize(L * mw), W1.resize(W0.size());
+  for (std::size_t k = 0; k < mw; ++k)  // v
+    for (std::size_t b = 0; b < n; ++b) {
+      const double* bv = g.v.BT.data() + b * mv;
+      const double* dbv = g.v.dBT.data() + b * mv;
+      pair_sum<R_>(mv, bv, V00.data() + R * mv * k, dbv, V10.data() + R * mv * k, R, R, nullptr, W0.data() + L * k + R * b);
+      sum<R_>(mv, bv, V01.data() + R * mv * k, R, R, W1.data() + L * k + R * b);
+    }
+  T0.resize(W0.size()), T1.resize(W1.size());
+  for (std::size_t kb = 0; kb < n * mw; ++kb)  // [xyz][a] -> [a][xyz] per (k, b)
+    for (std::size_t r = 0; r < 3; ++r)
+      for (std::size_t a = 0; a < n; ++a) T0[R * kb + 3 * a + r] = W0[R * kb + n * r + a], T1[R * kb + 3 * a + r] = W1[R * kb + n * r + a];
+  double* dq = dQ->data();
+  for (std::size_t c = 0; c < n; ++c)  // w
+    pair_sum<L_>(mw, g.w.BT.data() + c * mw, T0.data(), g.w.dBT.data() + c * mw, T1.data(), L, L, dq + L * c, dq + L * c);
+}
+}  // namespace
+
+VOLTS_KERNEL void grid_pull_back(const SampleMatrices& G, std::size_t first, const Grid3& g, Eigen::Vector3d* dQ) {
+  if (g.u.n == 4) return grid_pull_back_impl<4>(G, first, g, dQ);
+  grid_pull_back_impl<0>(G, first, g, dQ);
+}
+
+}  // namespace volts::tmesh::kernels
