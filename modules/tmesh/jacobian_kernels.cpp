@@ -346,4 +346,68 @@ VOLTS_KERNEL void grid_pull_back(const SampleMatrices& G, std::size_t first, con
   grid_pull_back_impl<0>(G, first, g, dQ);
 }
 
+namespace {
+
+// u: per row of n points (3 doubles each), out[i] = Σ_a C(a, i) in[a] — or with `transpose`
+// Σ_a C(i, a) in[a] — per coordinate.
+template <std::size_t N>
+VOLTS_INLINE void rows_u(std::size_t n, const double* C, bool transpose, const double* in, double* out) {
+  const std::size_t count = N > 0 ? N : n, R = 3 * count;
+  for (std::size_t row = 0; row < count * count; ++row) {
+    const double* __restrict p = in + R * row;
+    double* __restrict o = out + R * row;
+    for (std::size_t i = 0; i < count; ++i) {
+      double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+      for (std::size_t a = 0; a < count; ++a) {
+        const double c = transpose ? C[i + count * a] : C[a + count * i];
+        s0 += c * p[3 * a], s1 += c * p[3 * a + 1], s2 += c * p[3 * a + 2];
+      }
+      o[3 * i] = s0, o[3 * i + 1] = s1, o[3 * i + 2] = s2;
+    }
+  }
+}
+
+template <std::size_t N>
+VOLTS_INLINE void tensor_extract_impl(std::size_t n, const double* Cu, const double* Cv, const double* Cw, const double* P, double* Q) {
+  constexpr std::size_t L_ = 3 * N * N, R_ = 3 * N;
+  const std::size_t L = 3 * n * n, R = 3 * n;
+  thread_local std::vector<double> T1, T2;
+  T1.resize(L * n), T2.resize(L * n);
+  rows_u<N>(n, Cu, false, P, T1.data());
+  for (std::size_t k = 0; k < n; ++k)  // v: column j of Cv over the rows b of layer k
+    for (std::size_t j = 0; j < n; ++j) sum<R_>(n, Cv + n * j, T1.data() + L * k, R, R, T2.data() + L * k + R * j);
+  for (std::size_t c = 0; c < n; ++c) sum<L_>(n, Cw + n * c, T2.data(), L, L, Q + L * c);  // w
+}
+
+template <std::size_t N>
+VOLTS_INLINE void tensor_extract_transpose_impl(std::size_t n, const double* Cu, const double* Cv, const double* Cw, double* G) {
+  constexpr std::size_t L_ = 3 * N * N, R_ = 3 * N;
+  const std::size_t L = 3 * n * n, R = 3 * n;
+  thread_local std::vector<double> T;
+  T.resize(L * n);
+  double row[kMaxFunctions];
+  for (std::size_t a = 0; a < n; ++a) {  // w: row a of Cw over the layers
+    for (std::size_t i = 0; i < n; ++i) row[i] = Cw[a + n * i];
+    sum<L_>(n, row, G, L, L, T.data() + L * a);
+  }
+  for (std::size_t b = 0; b < n; ++b) {  // v
+    for (std::size_t i = 0; i < n; ++i) row[i] = Cv[b + n * i];
+    for (std::size_t k = 0; k < n; ++k) sum<R_>(n, row, T.data() + L * k, R, R, G + L * k + R * b);
+  }
+  std::copy(G, G + L * n, T.data());
+  rows_u<N>(n, Cu, true, T.data(), G);  // u
+}
+
+}  // namespace
+
+VOLTS_KERNEL void tensor_extract(int n, const double* Cu, const double* Cv, const double* Cw, const Eigen::Vector3d* P, Eigen::Vector3d* Q) {
+  if (n == 4) return tensor_extract_impl<4>(4, Cu, Cv, Cw, P->data(), Q->data());
+  tensor_extract_impl<0>(static_cast<std::size_t>(n), Cu, Cv, Cw, P->data(), Q->data());
+}
+
+VOLTS_KERNEL void tensor_extract_transpose(int n, const double* Cu, const double* Cv, const double* Cw, Eigen::Vector3d* G) {
+  if (n == 4) return tensor_extract_transpose_impl<4>(4, Cu, Cv, Cw, G->data());
+  tensor_extract_transpose_impl<0>(static_cast<std::size_t>(n), Cu, Cv, Cw, G->data());
+}
+
 }  // namespace volts::tmesh::kernels

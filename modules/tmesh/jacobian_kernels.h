@@ -1,7 +1,8 @@
 // volts::tmesh — the inner loop of the joint rounds (Liu et al. 2013 §5.2, optimization of the
-// worst scaled Jacobian): the Jacobians of a polynomial Bézier hex on tensor grids of samples by
-// sum factorization, their scaled Jacobians, the weighted gradients of those, and the transpose of
-// the first step (the gradients pulled back to the Bézier points).
+// worst scaled Jacobian): an element's Bézier points from its block's control points (and the
+// transpose), the Jacobians of a polynomial Bézier hex on tensor grids of samples by sum
+// factorization, their scaled Jacobians, the weighted gradients of those, and the transpose of
+// the Jacobians' step (the gradients pulled back to the Bézier points).
 //
 // Hand-written: Eigen's fixed 3×3 types do not vectorize across samples. The samples' matrices are
 // stored as a structure of arrays (one array per matrix entry) so that the per-sample kernels run
@@ -74,5 +75,15 @@ void weighted_gradients(SampleMatrices& J, const double* weight);
 /// The transpose of grid_jacobians: adds Σ_s tr(G_sᵀ ∂J_s/∂Q) over the samples first, ...,
 /// first + g.size() - 1 of G to dQ[a + n(b + nc)].
 void grid_pull_back(const SampleMatrices& G, std::size_t first, const Grid3& g, Eigen::Vector3d* dQ);
+
+/// The Bézier points of one element of a tensor-product B-spline block: Q = (Cu ⊗ Cv ⊗ Cw)ᵀ P for the
+/// n³ block points P[a + n(b + nc)] over the element and the n × n extraction matrices of its three
+/// directions (column-major: C(a, i) = C[a + n i]), one direction at a time (u, v, then w), every
+/// sum over a in order from zero.
+void tensor_extract(int n, const double* Cu, const double* Cv, const double* Cw, const Eigen::Vector3d* P, Eigen::Vector3d* Q);
+
+/// The transpose of tensor_extract, in place: G ← (Cu ⊗ Cv ⊗ Cw) G (w, v, then u; every sum in the
+/// order of the index it runs over, from zero).
+void tensor_extract_transpose(int n, const double* Cu, const double* Cv, const double* Cw, Eigen::Vector3d* G);
 
 }  // namespace volts::tmesh::kernels

@@ -131,27 +131,16 @@ class Spline {
     const Eigen::MatrixXd& Cw = C[2][static_cast<std::size_t>(el.e[2])];
     // Bézier points = (Cu ⊗ Cv ⊗ Cw)ᵀ P, one direction at a time.
     const int n = p + 1;
-    thread_local std::vector<Eigen::Vector3d> P, Q;  // scratch: hex() runs for every element a node supports
-    P.resize(static_cast<std::size_t>(n * n * n)), Q.resize(P.size());
+    thread_local std::vector<Eigen::Vector3d> P;  // scratch: hex() runs for every element a node supports
+    P.resize(static_cast<std::size_t>(n * n * n));
     for (int k = 0; k < n; ++k)
       for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
           const auto& x = t.control_points[static_cast<std::size_t>((el.first[0] + i) + t.size[0] * ((el.first[1] + j) + t.size[1] * (el.first[2] + k)))];
           P[static_cast<std::size_t>(i + n * (j + n * k))] = Eigen::Vector3d(x[0], x[1], x[2]);
         }
-    auto apply = [&](const Eigen::MatrixXd& M, int stride, std::vector<Eigen::Vector3d>& in, std::vector<Eigen::Vector3d>& out) {
-      for (std::size_t idx = 0; idx < in.size(); ++idx) {
-        const int along = (static_cast<int>(idx) / stride) % n;
-        const std::size_t base = idx - static_cast<std::size_t>(along * stride);
-        Eigen::Vector3d s = Eigen::Vector3d::Zero();
-        for (int a = 0; a < n; ++a) s += M(a, along) * in[base + static_cast<std::size_t>(a * stride)];
-        out[idx] = s;
-      }
-    };
-    apply(Cu, 1, P, Q);
-    apply(Cv, n, Q, P);
-    apply(Cw, n * n, P, Q);
-    out.assign(Q.begin(), Q.end());
+    out.resize(P.size());
+    kernels::tensor_extract(n, Cu.data(), Cv.data(), Cw.data(), P.data(), out.data());
   }
 
   // The transpose of hex(e): given d/dQ of the element's Bézier points (index i + n(j + nk)),
@@ -160,20 +149,8 @@ class Spline {
     const Element& el = elements_[e];
     const auto& C = ops_[static_cast<std::size_t>(el.block)];
     const int n = blocks_[static_cast<std::size_t>(el.block)].degree + 1;
-    thread_local std::vector<Eigen::Vector3d> tmp;
-    tmp.assign(g.size(), Eigen::Vector3d::Zero());
-    auto apply_t = [&](const Eigen::MatrixXd& M, int stride, const std::vector<Eigen::Vector3d>& out, std::vector<Eigen::Vector3d>& in) {
-      std::fill(in.begin(), in.end(), Eigen::Vector3d::Zero());
-      for (std::size_t idx = 0; idx < out.size(); ++idx) {
-        const int along = (static_cast<int>(idx) / stride) % n;
-        const std::size_t base = idx - static_cast<std::size_t>(along * stride);
-        for (int a = 0; a < n; ++a) in[base + static_cast<std::size_t>(a * stride)] += M(a, along) * out[idx];
-      }
-    };
-    apply_t(C[2][static_cast<std::size_t>(el.e[2])], n * n, g, tmp);
-    apply_t(C[1][static_cast<std::size_t>(el.e[1])], n, tmp, g);
-    apply_t(C[0][static_cast<std::size_t>(el.e[0])], 1, g, tmp);
-    g.swap(tmp);
+    kernels::tensor_extract_transpose(n, C[0][static_cast<std::size_t>(el.e[0])].data(), C[1][static_cast<std::size_t>(el.e[1])].data(),
+                                      C[2][static_cast<std::size_t>(el.e[2])].data(), g.data());
   }
 
   // The x coordinates of hex(e)'s points, with its arithmetic (Vector3d sums are per coordinate).

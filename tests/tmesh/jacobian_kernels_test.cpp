@@ -6,6 +6,7 @@
 // compiled without target clones (test_jacobian_kernels_default).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -228,4 +229,74 @@ TEST(JacobianKernels, PullBackIsTheTransposeAndHasTheReferenceBits) {
       for (std::size_t i = 0; i < np; ++i) rhs += (dQ[i] - start[i]).dot(h.points[i]);
       EXPECT_NEAR(lhs, rhs, 1e-13 * scale) << "degree " << p;
     }
+}
+
+namespace {
+
+// The reference: Spline::hex_points' and Spline::pull_back's scalar Eigen code before the kernels.
+void reference_extract(int n, const std::array<Eigen::MatrixXd, 3>& C, std::vector<Vector3d> P, std::vector<Vector3d>& Q) {
+  Q.assign(P.size(), Vector3d::Zero());
+  auto apply = [&](const Eigen::MatrixXd& M, int stride, std::vector<Vector3d>& in, std::vector<Vector3d>& out) {
+    for (std::size_t idx = 0; idx < in.size(); ++idx) {
+      const int along = (static_cast<int>(idx) / stride) % n;
+      const std::size_t base = idx - static_cast<std::size_t>(along * stride);
+      Vector3d s = Vector3d::Zero();
+      for (int a = 0; a < n; ++a) s += M(a, along) * in[base + static_cast<std::size_t>(a * stride)];
+      out[idx] = s;
+    }
+  };
+  apply(C[0], 1, P, Q);
+  apply(C[1], n, Q, P);
+  apply(C[2], n * n, P, Q);
+}
+
+void reference_extract_transpose(int n, const std::array<Eigen::MatrixXd, 3>& C, std::vector<Vector3d>& g) {
+  std::vector<Vector3d> tmp(g.size(), Vector3d::Zero());
+  auto apply_t = [&](const Eigen::MatrixXd& M, int stride, const std::vector<Vector3d>& out, std::vector<Vector3d>& in) {
+    std::fill(in.begin(), in.end(), Vector3d::Zero());
+    for (std::size_t idx = 0; idx < out.size(); ++idx) {
+      const int along = (static_cast<int>(idx) / stride) % n;
+      const std::size_t base = idx - static_cast<std::size_t>(along * stride);
+      for (int a = 0; a < n; ++a) in[base + static_cast<std::size_t>(a * stride)] += M(a, along) * out[idx];
+    }
+  };
+  apply_t(C[2], n * n, g, tmp);
+  apply_t(C[1], n, tmp, g);
+  apply_t(C[0], 1, g, tmp);
+  g.swap(tmp);
+}
+
+}  // namespace
+
+TEST(JacobianKernels, TensorExtractionAndItsTransposeHaveTheReferenceBits) {
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<double> d(-1, 1);
+  for (int p = 1; p <= 4; ++p) {
+    const int n = p + 1;
+    for (int trial = 0; trial < 5; ++trial) {
+      std::array<Eigen::MatrixXd, 3> C;
+      for (auto& M : C) M = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return d(rng); });
+      std::vector<Vector3d> P(static_cast<std::size_t>(n * n * n)), G(P.size());
+      for (auto& x : P) x = Vector3d(d(rng), d(rng), d(rng));
+      for (auto& x : G) x = Vector3d(d(rng), d(rng), d(rng));
+      std::vector<Vector3d> Q(P.size()), ref;
+      tensor_extract(n, C[0].data(), C[1].data(), C[2].data(), P.data(), Q.data());
+      reference_extract(n, C, P, ref);
+      for (std::size_t i = 0; i < P.size(); ++i)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(Q[i][c], ref[i][c]) << "degree " << p << " point " << i;
+      std::vector<Vector3d> T = G, refT = G;
+      tensor_extract_transpose(n, C[0].data(), C[1].data(), C[2].data(), T.data());
+      reference_extract_transpose(n, C, refT);
+      for (std::size_t i = 0; i < P.size(); ++i)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(T[i][c], refT[i][c]) << "degree " << p << " point " << i;
+      // <G, extract(P)> = <transpose(G), P>
+      double lhs = 0, rhs = 0, scale = 0;
+      for (std::size_t i = 0; i < P.size(); ++i) lhs += G[i].dot(Q[i]), rhs += T[i].dot(P[i]), scale += G[i].norm() * Q[i].norm();
+      EXPECT_NEAR(lhs, rhs, 1e-13 * scale) << "degree " << p;
+      // Identity matrices: the points themselves.
+      const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
+      tensor_extract(n, I.data(), I.data(), I.data(), P.data(), Q.data());
+      for (std::size_t i = 0; i < P.size(); ++i) EXPECT_EQ(Q[i], P[i]);
+    }
+  }
 }
