@@ -247,8 +247,6 @@ VOLTS_KERNEL void scaled_jacobians(const SampleMatrices& J, double* out) {
   }
 }
 
-// ∂(det J / (|J0||J1||J2|))/∂J = cof/D - sj J_c/|J_c|², ∂det/∂J_c the cross product of the other
-// two columns; per entry as the Eigen code computed it: (cof / D - (sj J) / |J_c|²) · weight.
 namespace {
 
 typedef long long Long4 __attribute__((vector_size(32)));
@@ -281,6 +279,8 @@ VOLTS_INLINE void weighted_gradients_4(double* const* e, const double* weight, s
 
 }  // namespace
 
+// ∂(det J / (|J0||J1||J2|))/∂J = cof/D - sj J_c/|J_c|², ∂det/∂J_c the cross product of the other
+// two columns; per entry as the Eigen code computed it: (cof / D - (sj J) / |J_c|²) · weight.
 VOLTS_KERNEL void weighted_gradients(SampleMatrices& J, const double* weight) {
   const std::size_t m = J.size();
   double* e[9] = {J.entry(0, 0), J.entry(1, 0), J.entry(2, 0), J.entry(0, 1), J.entry(1, 1), J.entry(2, 1), J.entry(0, 2), J.entry(1, 2), J.entry(2, 2)};

@@ -725,6 +725,8 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
   if (mode.until_valid && all_valid()) return;
   double window = 0;  // > 0: only elements within it of the worst figure (OptimizeParams::joint_window)
   std::vector<int> refused_ids;  // the variables of the last refused round
+  // This round leaves the elements not certified valid out of its objective (see the refusal below).
+  bool rest_only = false;
   for (int round = 0; round < params.joint_rounds; ++round) {
     // Variables: interior nodes of the elements below the target (or not certified valid), three
     // coordinates each, and with a surface its nodes that may slide, two tangent coordinates each.
@@ -766,7 +768,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     // A refused round leaves every node where it was, so a narrowed window that selects the same
     // nodes poses the same problem and would be refused again: narrow on without running it (the
     // rod's fixed rounds: three such rounds of 96 nodes in a row).
-    if (ids == refused_ids) {
+    if (ids == refused_ids && !rest_only) {
       window *= 0.5;
       if (!(window >= params.joint_window / 8)) return;
       core::log("joint rounds: the same nodes as the refused round; the window narrows to " + std::to_string(window));
@@ -855,12 +857,16 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     // kWindowSpan in the exponent (the defaults' 40 × 0.1 at the first narrowing).
     constexpr double kWindowSpan = 4.0;
     const double beta = window > 0 ? std::max(params.joint_sharpness, kWindowSpan / window) : params.joint_sharpness;
+    std::vector<char> left_out(els.size(), 0);  // a rest-only round's folded elements
+    if (rest_only)
+      for (std::size_t k = 0; k < els.size(); ++k) left_out[k] = q[static_cast<std::size_t>(els[k])].valid ? 0 : 1;
     int evaluations = 0;
     std::vector<double> reached;  // the first point whose samples are all at the target
     auto objective = [&](const std::vector<double>& x, std::vector<double>& grad) {
       ++evaluations;
       set_all(x, false);
       pool.for_each(els.size(), [&](std::size_t k) {
+        if (left_out[k]) return;
         const std::size_t e = static_cast<std::size_t>(els[k]);
         thread_local std::vector<Eigen::Vector3d> points;
         s.hex_points(e, points);
@@ -877,11 +883,19 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       // The soft minimum, its sums per element on the pool (added in order: reproducible).
       std::vector<double> local_min(els.size()), local_sum(els.size());
       pool.for_each(els.size(), [&](std::size_t k) {
+        if (left_out[k]) {
+          local_min[k] = std::numeric_limits<double>::infinity();
+          return;
+        }
         local_min[k] = *std::min_element(sj[k].begin(), sj[k].end());
         for (const TriSample& t : tri[k]) local_min[k] = std::min(local_min[k], t.value);
       });
       const double lo = *std::min_element(local_min.begin(), local_min.end());
       pool.for_each(els.size(), [&](std::size_t k) {
+        if (left_out[k]) {
+          local_sum[k] = 0;
+          return;
+        }
         double z = 0;
         ew[k].resize(sj[k].size());
         for (std::size_t i = 0; i < sj[k].size(); ++i) z += ew[k][i] = std::exp(-beta * (sj[k][i] - lo));
@@ -895,7 +909,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           const std::size_t e = static_cast<std::size_t>(els[k]);
           // Samples whose weight is below e^-20 of the largest are left out of the gradient (all of them
           // together change it by less than 1e-3 of the largest weight on the eight).
-          if (beta * (local_min[k] - lo) > 20) {
+          if (left_out[k] || beta * (local_min[k] - lo) > 20) {
             dP[k].clear();
             return;
           }
@@ -1066,15 +1080,27 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
               std::to_string(invalid) + ", " + std::to_string(reverted) + " nodes put back" +
               (accepted ? "" : " (step refused)"));
     if (!accepted) {
+      refused_ids = ids;
+      // Refused with folds among its elements: a fold whose figure no move raises (its samples
+      // depend on fixed points only, or it holds the soft minimum so that the other samples weigh
+      // nothing) refuses every round. Once, the same round runs without the folded elements in its
+      // objective; it is kept if the certified elements' worst rises (rest_gain; no fold may fall).
+      const bool any_valid = std::any_of(els.begin(), els.end(), [&q](int e) { return q[static_cast<std::size_t>(e)].valid; });
+      if (invalid_before > 0 && !rest_only && any_valid) {
+        rest_only = true;
+        core::log("joint rounds: the next leaves the elements not certified valid out of its objective");
+        continue;
+      }
+      rest_only = false;
       // Refused (the step cost elements more than it gained them): go on with the elements near
       // the worst only, then with half that window, while every element is certified valid.
-      refused_ids = ids;
       window = window > 0 ? 0.5 * window : params.joint_window;
       if (invalid_before > 0 || !(window >= params.joint_window / 8) || !(window > 0)) return;
       core::log("joint rounds go on with the elements within " + std::to_string(window) + " of the worst");
       continue;
     }
     ++r.joint_rounds;
+    rest_only = false;
     refused_ids.clear();  // the nodes moved: the same selection is a new problem
     const bool progress = (invalid_before > 0 && invalid_before - invalid >= std::max(1.0, params.min_fixed_rel * invalid_before)) ||
                           after >= before + params.min_gain || (tri_gain && best.tri >= tri_before + params.min_gain) ||

@@ -28,8 +28,10 @@
 // none of them loses its certified det J > 0 (bezier::certify), so optimization never makes the
 // certified validity worse; with elements not certified valid among them, a joint round that
 // raises the worst figure of the certified ones is kept too, no fold falling below its own figure
-// (a fold no round fixes would otherwise hold the rest where it is). After each cycle the
-// elements are checked on a denser grid
+// (a fold no round fixes would otherwise hold the rest where it is); a round refused with folds
+// among its elements runs once more without them in its objective (a fold no move raises holds
+// the soft minimum, so that the other samples weigh nothing), kept by that rule. After each
+// cycle the elements are checked on a denser grid
 // (OptimizeParams::check_points): where the field dips between the samples, the element is sampled
 // on that grid from then on. A trilinear pass follows (the paper's eq. (1)–(2) figure of the
 // T-mesh elements, the hexes of their corner points): see OptimizeParams::trilinear_sweeps.
