@@ -550,7 +550,7 @@ void trilinear_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector
             std::to_string(c.y()) + ", " + std::to_string(c.z()) + "): " + std::to_string(tri(w)));
 }
 
-// Bernstein values and derivatives of one degree at abscissae t.
+// Sample grids and their Bernstein tables (tmesh/jacobian_kernels.h).
 using kernels::Grid3;
 using kernels::GridAxis;
 using kernels::grid_axis;
