@@ -451,36 +451,58 @@ TEST(Optimize, RepairOfTheFoldsFixesThemAndKeepsTheValidElements) {
   EXPECT_GT(folded, 0);  // the family has folds to repair
 }
 
+namespace {
+
+// A run of the optimizer on a net with folds: the worst figures of the elements certified valid
+// at the start (the rest) and of the others (the folds), before and after.
+struct FoldRun {
+  tmesh::OptimizeResult r;
+  std::vector<bool> valid;  // per element, certified before
+  double rest_before = 1, rest_after = 1, fold_before = 1, fold_after = 1;
+};
+
+FoldRun optimize_with_folds(std::vector<tmesh::TMesh>& ts) {
+  FoldRun f;
+  for (const bezier::BezierHex& h : test::hexes(ts)) f.valid.push_back(bezier::certify(h).status == bezier::Validity::valid);
+  f.r = tmesh::optimize(ts, twist_family_params());
+  for (std::size_t e = 0; e < f.valid.size(); ++e) {
+    double& before = f.valid[e] ? f.rest_before : f.fold_before;
+    double& after = f.valid[e] ? f.rest_after : f.fold_after;
+    before = std::min(before, f.r.element_before[e]), after = std::min(after, f.r.element_after[e]);
+  }
+  std::printf("not certified valid %d -> %d; the certified elements' worst %.4f -> %.4f; the folded ones' %.4f -> %.4f\n", f.r.invalid_before,
+              f.r.invalid_after, f.rest_before, f.rest_after, f.fold_before, f.fold_after);
+  return f;
+}
+
+// Every element certified valid before the run still is.
+void expect_certified_stay_certified(const std::vector<tmesh::TMesh>& ts, const FoldRun& f) {
+  const std::vector<bezier::BezierHex> after = test::hexes(ts);
+  for (std::size_t e = 0; e < after.size(); ++e)
+    if (f.valid[e]) {
+      EXPECT_EQ(bezier::certify(after[e]).status, bezier::Validity::valid) << "element " << e;
+    }
+}
+
+}  // namespace
+
 // A fold no move may fix (a surface control point, fixed, moved along its face past its
 // neighbours: the surface folds over): the optimizer raises it as far as it goes, never lets a
 // folded element fall below its start or a certified one lose its certificate, and stops. Known
 // weakness, printed: the rounds that raise the fold may lower the certified elements to just
-// above it (0.08 -> 0.004 here); docs/status.md "Session 36" has the next idea (a floor for them).
+// above it (0.08 -> 0.004 here; a floor for them and a rest-only round, docs/status.md sessions
+// 36–37, do not lift them).
 TEST(Optimize, AFoldNoRoundFixesIsRaisedAndTheCertifiedStayCertified) {
   std::vector<tmesh::TMesh> ts = blocks(0, 1.2);
   tmesh::TMesh& t = ts[0];
   const int j = t.size[1] / 2, k = t.size[2] / 2;
   t.control_points[static_cast<std::size_t>(t.size[0] * (j + t.size[1] * k))][1] += 0.9;
   const std::vector<tmesh::TMesh> start = ts;
-  std::vector<bool> valid;  // per element, certified before
-  for (const bezier::BezierHex& h : test::hexes(ts)) valid.push_back(bezier::certify(h).status == bezier::Validity::valid);
-  const tmesh::OptimizeResult r = tmesh::optimize(ts, twist_family_params());
-  double rest_before = 1, rest_after = 1, fold_before = 1, fold_after = 1;
-  for (std::size_t e = 0; e < valid.size(); ++e) {
-    double& before = valid[e] ? rest_before : fold_before;
-    double& after = valid[e] ? rest_after : fold_after;
-    before = std::min(before, r.element_before[e]), after = std::min(after, r.element_after[e]);
-  }
-  std::printf("not certified valid %d -> %d; the certified elements' worst %.4f -> %.4f; the folded ones' %.4f -> %.4f\n", r.invalid_before,
-              r.invalid_after, rest_before, rest_after, fold_before, fold_after);
-  ASSERT_GT(r.invalid_after, 0) << "the fold was fixed: the case does not test what it is for";
-  EXPECT_LE(r.invalid_after, r.invalid_before);
-  EXPECT_GT(fold_after, fold_before + 0.1);
-  const std::vector<bezier::BezierHex> after = test::hexes(ts);
-  for (std::size_t e = 0; e < after.size(); ++e)
-    if (valid[e]) {
-      EXPECT_EQ(bezier::certify(after[e]).status, bezier::Validity::valid) << "element " << e;
-    }
+  const FoldRun f = optimize_with_folds(ts);
+  ASSERT_GT(f.r.invalid_after, 0) << "the fold was fixed: the case does not test what it is for";
+  EXPECT_LE(f.r.invalid_after, f.r.invalid_before);
+  EXPECT_GT(f.fold_after, f.fold_before + 0.1);
+  expect_certified_stay_certified(ts, f);
   expect_surface_kept_and_shared_together(ts, start);
 }
 
@@ -500,25 +522,12 @@ TEST(Optimize, TheRestRisesPastAFoldNoMoveCanRaise) {
   const Vec3 &a = t.control_points[1], &b = t.control_points[nu], &c = t.control_points[nu * nv];
   for (int d = 0; d < 3; ++d) corner[static_cast<std::size_t>(d)] = 2 * (a[static_cast<std::size_t>(d)] + b[static_cast<std::size_t>(d)] + c[static_cast<std::size_t>(d)]) / 3 - corner[static_cast<std::size_t>(d)];
   const std::vector<tmesh::TMesh> start = ts;
-  std::vector<bool> valid;
-  for (const bezier::BezierHex& h : test::hexes(ts)) valid.push_back(bezier::certify(h).status == bezier::Validity::valid);
-  const tmesh::OptimizeResult r = tmesh::optimize(ts, twist_family_params());
-  double rest_before = 1, rest_after = 1, fold_before = 1, fold_after = 1;
-  for (std::size_t e = 0; e < valid.size(); ++e) {
-    (valid[e] ? rest_before : fold_before) = std::min(valid[e] ? rest_before : fold_before, r.element_before[e]);
-    (valid[e] ? rest_after : fold_after) = std::min(valid[e] ? rest_after : fold_after, r.element_after[e]);
-  }
-  std::printf("not certified valid %d -> %d; the certified elements' worst %.4f -> %.4f; the folded ones' %.4f -> %.4f\n", r.invalid_before,
-              r.invalid_after, rest_before, rest_after, fold_before, fold_after);
-  ASSERT_EQ(r.invalid_before, 1) << "the case is one folded corner element";
-  EXPECT_EQ(r.invalid_after, 1);
-  EXPECT_NEAR(fold_after, fold_before, 1e-12) << "the fold depends on fixed points only";
-  EXPECT_GT(rest_after, 0.9) << "the rest did not rise past the stuck fold (the family's target is 0.95)";
-  const std::vector<bezier::BezierHex> after = test::hexes(ts);
-  for (std::size_t e = 0; e < after.size(); ++e)
-    if (valid[e]) {
-      EXPECT_EQ(bezier::certify(after[e]).status, bezier::Validity::valid) << "element " << e;
-    }
+  const FoldRun f = optimize_with_folds(ts);
+  ASSERT_EQ(f.r.invalid_before, 1) << "the case is one folded corner element";
+  EXPECT_EQ(f.r.invalid_after, 1);
+  EXPECT_NEAR(f.fold_after, f.fold_before, 1e-12) << "the fold depends on fixed points only";
+  EXPECT_GT(f.rest_after, 0.9) << "the rest did not rise past the stuck fold (the family's target is 0.95)";
+  expect_certified_stay_certified(ts, f);
   expect_surface_kept_and_shared_together(ts, start);
 }
 
