@@ -5,11 +5,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <string>
+#include <vector>
 
 #include "models/models.h"
 #include "surface/surface.h"
@@ -40,13 +45,38 @@ inline Outcome run(const std::string& cmd) {
 inline std::string bin(const std::string& tool) { return std::string(VOLTS_BIN_DIR) + "/" + tool; }
 #endif
 
+namespace detail {
+/// The directories fresh_dir made in this process, removed when it exits: the pipeline tests write
+/// hundreds of MB each, and a test run that left them behind filled the CI machine's disk. They are
+/// kept if a test failed (to look at) or if VOLTS_KEEP_TEST_DIRS is set.
+struct DirsToRemove {
+  std::vector<std::filesystem::path> dirs;
+  ~DirsToRemove() {
+    if (std::getenv("VOLTS_KEEP_TEST_DIRS") != nullptr) return;
+    if (::testing::UnitTest::GetInstance()->Failed()) {
+      for (const auto& d : dirs) std::cerr << "kept for inspection: " << d.string() << "\n";
+      return;
+    }
+    for (const auto& d : dirs) {
+      std::error_code ec;  // a directory a test removed itself is no error
+      std::filesystem::remove_all(d, ec);
+    }
+  }
+};
+inline DirsToRemove& dirs_to_remove() {
+  static DirsToRemove dirs;
+  return dirs;
+}
+}  // namespace detail
+
 /// An empty directory <tmp>/volts_<prefix>_<pid>_<name>, removed first if it exists (the pid keeps
-/// concurrent test runs apart).
+/// concurrent test runs apart), and removed again when the test process exits unless a test failed.
 inline std::filesystem::path fresh_dir(const std::string& prefix, const std::string& name) {
   const std::filesystem::path d =
       std::filesystem::temp_directory_path() / ("volts_" + prefix + "_" + std::to_string(::getpid()) + "_" + name);
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
+  detail::dirs_to_remove().dirs.push_back(d);
   return d;
 }
 
