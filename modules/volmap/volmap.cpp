@@ -1,6 +1,7 @@
 // Liu et al. 2013 §4.3 volume map: TetGen tets, chord splitting, harmonic map, untangling (single-vertex
 // LPs, then a joint foldover-free energy of Garanzha et al. 2021 if needed).
 #include "volmap/volmap.h"
+#include "volmap/foldover_energy.h"
 #include "volmap/repair.h"
 
 #include <nlopt.hpp>
@@ -278,22 +279,6 @@ struct GlobalData {
   double det_min = 0;
 };
 
-// Energy of one tet with Jacobian J (physical reference shape -> parameter image), regularized by
-// eps (Garanzha et al. 2021, theta = 1/2); its derivative in J if dJ is given. Also returns det J.
-double tet_energy(const Eigen::Matrix3d& J, double eps, double* det, Eigen::Matrix3d* dJ) {
-  const double theta = 0.5;
-  Eigen::Matrix3d C;  // d det / d J
-  C.col(0) = J.col(1).cross(J.col(2)), C.col(1) = J.col(2).cross(J.col(0)), C.col(2) = J.col(0).cross(J.col(1));
-  const double D = J.col(0).dot(C.col(0)), F = J.squaredNorm();
-  *det = D;
-  const double root = std::sqrt(eps * eps + D * D), chi = (D + root) / 2, dchi = chi / root;
-  const double c23 = std::cbrt(chi * chi);
-  if (dJ)
-    *dJ = (1 - theta) * (2 * J / (3 * c23) - (2.0 / 9) * F / (c23 * chi) * dchi * C) +
-          theta * (D / chi - (D * D + 1) / (2 * chi * chi) * dchi) * C;
-  return (1 - theta) * F / (3 * c23) + theta * (D * D + 1) / (2 * chi);
-}
-
 // Gradient of a tet's energy in its 4 vertices' parameter positions, from dE/dJ (P = edge matrix).
 std::array<Vec, 4> vertex_gradients(const Eigen::Matrix3d& dJ, const Eigen::Matrix3d& s_inv, double weight) {
   const Eigen::Matrix3d dP = weight * dJ * s_inv.transpose();
@@ -455,20 +440,25 @@ int smooth_map(VolumeMap& vm, const std::vector<std::vector<int>>& tets_of, int 
     weight[t] = S.determinant() / 6;
   }
   auto& p = vm.parameter;
-  // Energy of v's tets and its gradient in v; +inf if a tet is not positive.
-  const auto local = [&](int v, Vec* g) {
+  // Energy of v's tets, its gradient and Hessian in v; +inf if a tet is not positive.
+  const auto local = [&](int v, Vec* g, Eigen::Matrix3d* H) {
     double e = 0;
     if (g) g->setZero();
+    if (H) H->setZero();
     for (int t : tets_of[v]) {
-      Eigen::Matrix3d dJ;
+      const Tet& tet = vm.tets[t];
+      const Eigen::Matrix3d& S = s_inv[t];
+      // J = P S with P's columns p_j - p_0: v's row of the shape gradients.
+      const Vec row = tet[0] == v ? Vec(-(S.row(0) + S.row(1) + S.row(2)).transpose())
+                                  : Vec(S.row(tet[1] == v ? 0 : tet[2] == v ? 1 : 2).transpose());
       double D = 0;
-      const double f = tet_energy(tet_jacobian(p, vm.tets[t], s_inv[t]), 0.0, &D, g ? &dJ : nullptr);
+      Vec gt;
+      Eigen::Matrix3d Ht;
+      const double f = vertex_energy(tet_jacobian(p, tet, S), row, 0.0, &D, g ? &gt : nullptr, H ? &Ht : nullptr);
       if (!(D > 0)) return HUGE_VAL;
       e += weight[t] * f;
-      if (!g) continue;
-      const std::array<Vec, 4> gv = vertex_gradients(dJ, s_inv[t], weight[t]);
-      for (int j = 0; j < 4; ++j)
-        if (vm.tets[t][j] == v) *g += gv[j];
+      if (g) *g += weight[t] * gt;
+      if (H) *H += weight[t] * Ht;
     }
     return e;
   };
@@ -482,43 +472,28 @@ int smooth_map(VolumeMap& vm, const std::vector<std::vector<int>>& tets_of, int 
     for (int v = vm.surface_vertices; v < static_cast<int>(p.size()); ++v) {
       for (int it = 0; it < 8; ++it) {
         Vec g;
-        const double e0 = local(v, &g);
+        Eigen::Matrix3d H;
+        const double e0 = local(v, &g, &H);
         if (!std::isfinite(e0) || g.squaredNorm() == 0) break;
         double h = HUGE_VAL;  // the step is at most half the shortest edge at v (parameter space)
         for (int t : tets_of[v])
           for (int u : vm.tets[t])
             if (u != v) h = std::min(h, (p[u] - p[v]).norm());
         const Vec x0 = p[v];
-        // Newton's direction (the Hessian by differences of the gradient) where it descends, else
-        // the gradient's: sliver tets make the vertex's energy badly scaled, and steepest descent
-        // crawled (300 sweeps, 18 s on the eight's first ring).
+        // Newton's direction (the Hessian in closed form, foldover_energy.h) where it descends,
+        // else the gradient's: sliver tets make the vertex's energy badly scaled, and steepest
+        // descent crawled (300 sweeps, 18 s on the eight's first ring).
         Vec dir = -g.normalized();
         double first = 0.5 * h;
-        {
-          Eigen::Matrix3d H;
-          const double delta = 1e-6 * h;
-          bool finite = true;
-          for (int k = 0; k < 3 && finite; ++k) {
-            Vec gk;
-            p[v] = x0;
-            p[v][k] += delta;
-            finite = std::isfinite(local(v, &gk));
-            H.col(k) = (gk - g) / delta;
-          }
-          p[v] = x0;
-          if (finite) {
-            const Eigen::Matrix3d Hs = 0.5 * (H + H.transpose());
-            const Eigen::LDLT<Eigen::Matrix3d> ldlt(Hs);
-            if (ldlt.info() == Eigen::Success && ldlt.isPositive() && (ldlt.vectorD().array() > 0).all()) {
-              const Vec d = ldlt.solve(-g);
-              if (d.allFinite() && d.dot(g) < 0 && d.norm() > 0) dir = d.normalized(), first = std::min(d.norm(), 0.5 * h);
-            }
-          }
+        const Eigen::LDLT<Eigen::Matrix3d> ldlt(H);
+        if (H.allFinite() && ldlt.info() == Eigen::Success && ldlt.isPositive() && (ldlt.vectorD().array() > 0).all()) {
+          const Vec d = ldlt.solve(-g);
+          if (d.allFinite() && d.dot(g) < 0 && d.norm() > 0) dir = d.normalized(), first = std::min(d.norm(), 0.5 * h);
         }
         bool moved = false;
         for (double step = first; step > 1e-6 * h; step *= 0.5) {
           p[v] = x0 + step * dir;
-          const double e1 = local(v, nullptr);
+          const double e1 = local(v, nullptr, nullptr);
           if (e1 < e0 - 1e-4 * step * std::abs(g.dot(dir))) {
             moved = true;
             decrease += e0 - e1;
