@@ -130,10 +130,13 @@ std::vector<Eigen::Matrix3d> jacobian_samples(const BezierHex& hex, int gauss_po
 }
 
 std::vector<Eigen::Matrix3d> jacobian_grid(const BezierHex& hex, int n) {
+  return jacobian_tensor_grid(hex, uniform_points(n));
+}
+
+std::vector<Eigen::Matrix3d> jacobian_tensor_grid(const BezierHex& hex, const std::vector<double>& t) {
   check(hex);
-  const std::vector<double> t = uniform_points(n);
   std::vector<Eigen::Matrix3d> out;
-  out.reserve(static_cast<std::size_t>(n * n * n));
+  out.reserve(t.size() * t.size() * t.size());
   if (hex.is_rational()) {
     for (const double w : t)
       for (const double v : t)
@@ -144,22 +147,23 @@ std::vector<Eigen::Matrix3d> jacobian_grid(const BezierHex& hex, int n) {
         }
     return out;
   }
-  thread_local std::pair<std::array<int, 4>, std::array<AxisBases, 3>> cache{{-1, -1, -1, -1}, {}};
-  const std::array<int, 4> key{n, hex.degree[0], hex.degree[1], hex.degree[2]};
-  if (cache.first != key) {
-    cache.first = key;
+  // The bases once per thread, degrees and points (extract calls this for every element).
+  thread_local std::pair<std::array<int, 3>, std::vector<double>> key{{-1, -1, -1}, {}};
+  thread_local std::array<AxisBases, 3> axes;
+  if (key.first != hex.degree || key.second != t) {
+    key = {hex.degree, t};
     for (int d = 0; d < 3; ++d) {
-      cache.second[static_cast<std::size_t>(d)] = {};
+      axes[static_cast<std::size_t>(d)] = {};
       for (const double x : t) {
         Eigen::VectorXd db;
-        cache.second[static_cast<std::size_t>(d)].B.push_back(bernstein_basis(hex.degree[d], x, &db));
-        cache.second[static_cast<std::size_t>(d)].dB.push_back(db);
+        axes[static_cast<std::size_t>(d)].B.push_back(bernstein_basis(hex.degree[d], x, &db));
+        axes[static_cast<std::size_t>(d)].dB.push_back(db);
       }
     }
   }
   thread_local std::vector<std::array<Eigen::Vector3d, 3>> columns;
   columns.clear();
-  grid_derivatives(hex.degree, hex.points.data(), cache.second, 0, t.size(), columns);
+  grid_derivatives(hex.degree, hex.points.data(), axes, 0, t.size(), columns);
   for (const auto& [xu, xv, xw] : columns) {
     Eigen::Matrix3d J;
     J << xu, xv, xw;
@@ -185,22 +189,9 @@ JacobianSample sample_jacobian(const BezierHex& hex, int gauss_points, int grid_
 }
 
 double volume(const BezierHex& hex, int gauss_points) {
-  check(hex);
   const std::vector<double> g = gauss_legendre_points(gauss_points);
   const std::vector<double> gw = gauss_legendre_weights(gauss_points);
-  // The Gauss points' bases once per thread, degrees and rule (extract sums every element).
-  thread_local std::unique_ptr<HexPoints> points;
-  thread_local std::vector<double> rule;
-  if (!points || rule != g || !points->has_degree(hex.degree)) {
-    std::vector<Eigen::Vector3d> uvw;
-    for (int k = 0; k < gauss_points; ++k)
-      for (int j = 0; j < gauss_points; ++j)
-        for (int i = 0; i < gauss_points; ++i) uvw.emplace_back(g[i], g[j], g[k]);
-    points = std::make_unique<HexPoints>(hex.degree, uvw);
-    rule = g;
-  }
-  thread_local std::vector<Eigen::Matrix3d> J;
-  points->evaluate(hex, nullptr, &J);
+  const std::vector<Eigen::Matrix3d> J = jacobian_tensor_grid(hex, g);
   double vol = 0.0;
   std::size_t n = 0;
   for (int k = 0; k < gauss_points; ++k)

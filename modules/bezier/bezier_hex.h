@@ -76,6 +76,12 @@ std::vector<Eigen::Matrix3d> jacobian_samples(const BezierHex& hex, int gauss_po
 /// low between them). Throws InvalidInputError if n < 2.
 std::vector<Eigen::Matrix3d> jacobian_grid(const BezierHex& hex, int n);
 
+/// The Jacobian at every point (t[a], t[b], t[c]) of the tensor grid of `t` (a fastest), by sum
+/// factorization for polynomial hexes (jacobian_grid.h: (p+1)³ terms per grid line, not per point),
+/// point by point with evaluate() for rational ones. What volume() and extract's Gauss-point
+/// figures integrate.
+std::vector<Eigen::Matrix3d> jacobian_tensor_grid(const BezierHex& hex, const std::vector<double>& t);
+
 /// min/max scaled Jacobian and det J over matrices (what sample_jacobian() reports for them).
 JacobianSample summarize_jacobians(const std::vector<Eigen::Matrix3d>& J);
 

@@ -52,26 +52,13 @@ double volume_fraction_scaled_jacobian_above(const std::vector<bezier::BezierHex
   // parallel; summed in order afterwards, so the sum does not depend on the threads.
   const std::size_t n = g.size(), per = n * n * n;
   std::vector<double> dvs(hexes.size() * per);
-  // Bases of the Gauss points for the first hex's degrees (bezier::HexPoints: evaluate() bit for bit).
-  std::unique_ptr<bezier::HexPoints> points;
-  if (!hexes.empty() && hexes[0].degree[0] >= 1 && hexes[0].degree[1] >= 1 && hexes[0].degree[2] >= 1) {
-    std::vector<Eigen::Vector3d> uvw;
-    for (std::size_t k = 0; k < n; ++k)
-      for (std::size_t j = 0; j < n; ++j)
-        for (std::size_t i = 0; i < n; ++i) uvw.emplace_back(g[i], g[j], g[k]);
-    points = std::make_unique<bezier::HexPoints>(hexes[0].degree, uvw);
-  }
   core::parallel_for(hexes.size(), [&](std::size_t e) {
     double* out = dvs.data() + e * per;
-    std::vector<Eigen::Matrix3d> Js;
-    const bool same = points && points->has_degree(hexes[e].degree);
-    if (same) points->evaluate(hexes[e], nullptr, &Js);
+    const std::vector<Eigen::Matrix3d> Js = bezier::jacobian_tensor_grid(hexes[e], g);
     for (std::size_t k = 0; k < n; ++k)
       for (std::size_t j = 0; j < n; ++j)
         for (std::size_t i = 0; i < n; ++i) {
-          Eigen::Matrix3d J;
-          if (same) J = Js[i + n * (j + n * k)];
-          else bezier::evaluate(hexes[e], Eigen::Vector3d(g[i], g[j], g[k]), &J);
+          const Eigen::Matrix3d& J = Js[i + n * (j + n * k)];
           const double dv = std::max(J.determinant(), 0.0) * w[i] * w[j] * w[k];
           *out++ = bezier::scaled_jacobian(J) > threshold ? dv : -dv;
         }

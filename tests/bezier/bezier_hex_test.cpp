@@ -273,3 +273,30 @@ TEST(BezierHex, GridSamplesAreTheJacobiansOnTheUniformGrid) {
       EXPECT_THROW(jacobian_samples(h, 3, 1), core::InvalidInputError);
     }
 }
+
+// jacobian_tensor_grid at points that are not uniform (Gauss points, an uneven set), for two
+// degrees in turn (its bases are cached per thread): evaluate()'s Jacobians, a fastest.
+TEST(BezierHex, TensorGridJacobiansAreEvaluatesAtEveryPoint) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.1, 0.1), weight(0.5, 2.0);
+  const std::vector<std::vector<double>> point_sets{gauss_legendre_points(5), {0.0, 0.13, 0.5, 0.91}};
+  for (int pass = 0; pass < 2; ++pass)
+    for (const bool rational : {false, true})
+      for (const std::array<int, 3> degree : {std::array<int, 3>{3, 3, 3}, std::array<int, 3>{1, 2, 3}})
+        for (const std::vector<double>& t : point_sets) {
+          BezierHex h = hex_from_multilinear(degree, [](const Vector3d& u) { return Vector3d(u[0] + 0.3 * u[1] * u[2], u[1] - 0.1 * u[0], u[2]); });
+          for (auto& p : h.points) p += Vector3d(jitter(rng), jitter(rng), jitter(rng));
+          if (rational)
+            for (int i = 0; i < h.num_points(); ++i) h.weights.push_back(weight(rng));
+          const std::vector<Matrix3d> js = jacobian_tensor_grid(h, t);
+          ASSERT_EQ(js.size(), t.size() * t.size() * t.size());
+          std::size_t s = 0;
+          for (const double w : t)
+            for (const double v : t)
+              for (const double u : t) {
+                Matrix3d J;
+                evaluate(h, Vector3d(u, v, w), &J);
+                EXPECT_LT((js[s++] - J).norm(), 1e-13 * J.norm()) << "rational " << rational << ", at " << u << " " << v << " " << w;
+              }
+        }
+}
