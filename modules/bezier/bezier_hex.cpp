@@ -2,11 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <string>
 
 #include "bezier/bernstein.h"
-#include "bezier/hex_point.h"
 #include "bezier/jacobian_grid.h"
 #include "core/errors.h"
 
