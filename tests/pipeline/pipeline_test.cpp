@@ -161,6 +161,22 @@ TEST(Pipeline, UnknownConfigKeyStopsBeforeAnyStage) {
   EXPECT_FALSE(fs::exists(d / "w" / "classify.stage.json"));
 }
 
+// The test directories (test::fresh_dir) go when the test process exits: a run that left them
+// filled the CI machine's disk (session 38). This binary runs the test above in a child process
+// with its own TMPDIR: empty afterwards, and not empty with VOLTS_KEEP_TEST_DIRS (so the test
+// does write there and the first check is not vacuous).
+TEST(Pipeline, TestDirectoriesAreRemovedWhenTheTestProcessExits) {
+  const fs::path tmp = test::fresh_dir("pipeline", "tmpdir");
+  const std::string child = "TMPDIR=" + tmp.string() + " " + fs::read_symlink("/proc/self/exe").string() +
+                            " --gtest_filter=Pipeline.UnknownConfigKeyStopsBeforeAnyStage";
+  const test::Outcome r = test::run(child);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(fs::is_empty(tmp)) << "left behind: " << fs::directory_iterator(tmp)->path();
+  const test::Outcome kept = test::run("VOLTS_KEEP_TEST_DIRS=1 " + child);
+  ASSERT_EQ(kept.code, 0) << kept.output;
+  EXPECT_FALSE(fs::is_empty(tmp));
+}
+
 // Broken surface inputs through volts-classify: message names the file and the problem, exit code
 // 4 (invalid input), and the work directory stays empty.
 TEST(Pipeline, BrokenSurfacesAreRefusedAndNothingIsWritten) {
