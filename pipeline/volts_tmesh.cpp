@@ -227,7 +227,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
                          {"bezier_min_scaled_jacobian_before", opt.min_before}, {"bezier_min_scaled_jacobian_after", opt.min_after},
                          {"not_certified_valid_before", opt.invalid_before}, {"not_certified_valid_after", opt.invalid_after},
                          {"stop_reason", opt.stop_reason}, {"sweeps_cut_at_node_bound", opt.sweeps_cut_at_node_bound},
-                         {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds}, {"cycles", opt.cycles},
+                         {"trilinear_nodes_moved", opt.trilinear_nodes_moved}, {"joint_rounds", opt.joint_rounds}, {"cycles", opt.cycles}, {"cycle_kept", opt.cycle_kept},
                          {"surface_nodes_slid", opt.surface_nodes_slid}, {"elements_on_check_grid", opt.elements_on_check_grid},
                          {"folds_between_samples", opt.folds_between_samples},
                          {"bezier_min_scaled_jacobian_after_checked", opt.min_after_checked},

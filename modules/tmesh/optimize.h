@@ -184,6 +184,9 @@ struct OptimizeResult {
   int trilinear_nodes_moved = 0;
   int joint_rounds = 0;  ///< joint rounds kept
   int cycles = 0;        ///< cycles of joint rounds and sweeps run (OptimizeParams::cycles)
+  /// 0, or the earlier cycle whose end's nodes were kept: the best end once its dips were put on
+  /// the check grid (fewest not certified valid, then the highest worst figure)
+  int cycle_kept = 0;
   int elements_on_check_grid = 0;  ///< elements sampled on the check grid once their field dipped (OptimizeParams::check_points)
   /// Folds between the samples: points where the certifier found an element folded while its samples
   /// were positive (at a joint round's start, or made by a joint step and undone); the joint rounds
