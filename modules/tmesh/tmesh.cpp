@@ -709,7 +709,10 @@ core::Json to_json(const TMesh& t) {
                     {"control_points", cp}, {"parameters", par}, {"boundary", t.boundary}, {"component", t.component},
                     {"corners", t.corners}, {"kind", t.kind}, {"function_ids", t.function_ids}, {"constraints", [&] {
                       core::Json c = core::Json::array();
-                      for (const auto& k : t.constraints) c.push_back({{"point", k.point}, {"ids", k.ids}, {"weights", k.weights}});
+                      for (const auto& k : t.constraints) {
+                        c.push_back({{"point", k.point}, {"ids", k.ids}, {"weights", k.weights}});
+                        if (k.smooth) c.back()["smooth"] = true;
+                      }
                       return c;
                     }()}};
 }
@@ -761,6 +764,10 @@ TMesh from_json(const core::Json& j, const std::string& file) {
         c.point = core::require(k, "point", file).get<int>();
         c.ids = core::require(k, "ids", file).get<std::vector<int>>();
         c.weights = core::require(k, "weights", file).get<std::vector<double>>();
+        if (k.contains("smooth")) {
+          if (!k["smooth"].is_boolean()) throw core::InvalidInputError(file + ": tmesh constraint key \"smooth\" is not a boolean");
+          c.smooth = k["smooth"].get<bool>();
+        }
         if (c.point < 0 || static_cast<std::size_t>(c.point) >= n || (!t.constraints.empty() && c.point <= t.constraints.back().point))
           throw core::InvalidInputError(file + ": tmesh constraint point " + std::to_string(c.point) + " out of range or order");
         if (t.function_ids.empty()) throw core::InvalidInputError(file + ": tmesh constraints without function_ids");
@@ -896,6 +903,7 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
   std::vector<double> twin_weight(static_cast<std::size_t>(c.nodes), 0.5 + 1e-9);
   for (std::size_t b = 0; b < ts.size(); ++b)
     for (const auto& k : ts[b].constraints) {
+      if (k.smooth) continue;  // a clamped extra of a C2 face (continuity.h), not a T-junction
       const int u = ids[b][static_cast<std::size_t>(k.point)];
       junction[static_cast<std::size_t>(u)] = 1;
       for (std::size_t r = 0; r < k.ids.size(); ++r) {

@@ -137,6 +137,9 @@ struct TMesh {
     int point = 0;
     std::vector<int> ids;
     std::vector<double> weights;
+    /// A smooth row (continuity.h): a clamped extra next to a face made C2 across, not a
+    /// T-junction (its weights need not be positive; stage file key "smooth").
+    bool smooth = false;
   };
   std::vector<Constraint> constraints;  ///< ascending `point`; empty without T-junctions
   int elements() const;  ///< product of the knot spans in the three directions

@@ -1,0 +1,225 @@
+#include "tmesh/continuity.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+
+#include "bezier/bspline.h"
+#include "core/errors.h"
+
+namespace volts::tmesh {
+
+namespace {
+
+// The rows of one line across a face: the clamped extras of A (last element count nA) and B (nB)
+// in terms of (A's point two in from the face, the face point, B's point two in), with unit knot
+// intervals (one element of the level). Knot removal written as a solve: the clamped points of a
+// C2 spline are Rᵀ·Q (R = refinement from the merged knots, the interface knot simple, to the
+// clamped pair's, it triple); dropping the two extras leaves a square system for Q.
+struct LineRows {
+  std::array<double, 3> a{}, b{};
+};
+
+LineRows line_rows(int nA, int nB) {
+  std::vector<double> merged(4, 0.0), pair(4, 0.0);
+  for (int k = 1; k < nA + nB; ++k) {
+    merged.push_back(k);
+    for (int r = 0; r < (k == nA ? 3 : 1); ++r) pair.push_back(k);
+  }
+  for (int r = 0; r < 4; ++r) merged.push_back(nA + nB), pair.push_back(nA + nB);
+  const Eigen::MatrixXd M = bezier::refinement_matrix(merged, pair, 3).transpose();  // clamped points × merged points
+  const int n = static_cast<int>(M.rows()), m = static_cast<int>(M.cols());
+  const int extra_a = nA + 1, extra_b = nA + 3;
+  std::vector<int> keep;
+  for (int i = 0; i < n; ++i)
+    if (i != extra_a && i != extra_b) keep.push_back(i);
+  if (static_cast<int>(keep.size()) != m) throw core::NumericalError("raise_continuity: the knot removal is not square");
+  Eigen::MatrixXd S(m, m), E(2, m);
+  for (int r = 0; r < m; ++r) S.row(r) = M.row(keep[static_cast<std::size_t>(r)]);
+  E.row(0) = M.row(extra_a), E.row(1) = M.row(extra_b);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(S);
+  if (!lu.isInvertible()) throw core::NumericalError("raise_continuity: the knot removal is singular");
+  const Eigen::MatrixXd W = E * lu.inverse();  // 2 × kept clamped points
+  LineRows rows;
+  const int refs[3] = {nA, nA + 2, nA + 4};
+  for (int c = 0; c < m; ++c) {
+    const int i = keep[static_cast<std::size_t>(c)];
+    const int* at = std::find(refs, refs + 3, i);
+    if (at == refs + 3) {
+      if (std::abs(W(0, c)) > 1e-9 || std::abs(W(1, c)) > 1e-9) throw core::NumericalError("raise_continuity: a row reaches past the face's neighbours");
+      continue;
+    }
+    rows.a[static_cast<std::size_t>(at - refs)] = W(0, c), rows.b[static_cast<std::size_t>(at - refs)] = W(1, c);
+  }
+  return rows;
+}
+
+std::size_t local_index(const TMesh& t, const std::array<int, 3>& idx) {
+  return static_cast<std::size_t>(idx[0] + t.size[0] * (idx[1] + t.size[1] * idx[2]));
+}
+
+std::array<int, 3> grid_index(const TMesh& t, std::size_t i) {
+  const int k = static_cast<int>(i);
+  return {k % t.size[0], (k / t.size[0]) % t.size[1], k / (t.size[0] * t.size[1])};
+}
+
+// One line across a face: the two extras and the three points their rows name, in that order.
+struct Line {
+  int extra_a = 0, extra_b = 0;
+  std::array<int, 3> refs{};
+  LineRows rows;
+};
+
+}  // namespace
+
+ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityParams& params) {
+  if (params.margin < 2 || params.margin > 100) throw core::ConfigError("raise_continuity: margin must be in [2, 100]");
+  ContinuityResult r;
+  int nodes = 0;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const TMesh& t = blocks[b];
+    if (t.degree != 3) throw core::ConfigError("raise_continuity: C2 across block faces is for cubic blocks (block " + std::to_string(b) + " has degree " + std::to_string(t.degree) + ")");
+    if (t.function_ids.size() != t.control_points.size())
+      throw core::InvalidInputError("raise_continuity: block " + std::to_string(b) + " has no function ids (blocks must share their face points)");
+    for (const int id : t.function_ids) nodes = std::max(nodes, id + 1);
+  }
+  std::vector<std::vector<std::pair<int, std::size_t>>> where(static_cast<std::size_t>(nodes));
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (std::size_t i = 0; i < blocks[b].function_ids.size(); ++i) where[static_cast<std::size_t>(blocks[b].function_ids[i])].push_back({static_cast<int>(b), i});
+  // Inner faces by their corner ids; a face of two blocks of one level, neither with T-junctions.
+  std::map<std::array<int, 4>, std::vector<std::pair<int, int>>> faces;
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (int f = 0; f < 6; ++f) {
+      const TMesh& t = blocks[b];
+      if (t.boundary[static_cast<std::size_t>(f)]) continue;
+      const int a = f / 2, u = (a + 1) % 3, w = (a + 2) % 3;
+      std::array<int, 4> key{};
+      for (int c = 0; c < 4; ++c) {
+        std::array<int, 3> idx{};
+        idx[static_cast<std::size_t>(a)] = f % 2 ? t.size[a] - 1 : 0;
+        idx[static_cast<std::size_t>(u)] = (c & 1) ? t.size[u] - 1 : 0, idx[static_cast<std::size_t>(w)] = (c & 2) ? t.size[w] - 1 : 0;
+        key[static_cast<std::size_t>(c)] = t.function_ids[local_index(t, idx)];
+      }
+      std::sort(key.begin(), key.end());
+      faces[key].push_back({static_cast<int>(b), f});
+    }
+  std::map<std::pair<int, int>, LineRows> rows_of;  // per (nA, nB)
+  std::vector<Line> lines;
+  std::vector<int> face_of_line;
+  int pairs = 0;
+  for (const auto& [key, list] : faces) {
+    if (list.size() != 2) continue;
+    const int face_index = pairs++;
+    const auto [ba, fa] = list[0];
+    const auto [bb, fb] = list[1];
+    const TMesh& A = blocks[static_cast<std::size_t>(ba)];
+    const TMesh& B = blocks[static_cast<std::size_t>(bb)];
+    const int a = fa / 2, u = (a + 1) % 3, w = (a + 2) % 3, ab = fb / 2;
+    if (A.level != B.level || !A.constraints.empty() || !B.constraints.empty() || A.size[a] < 4 || B.size[ab] < 4 ||
+        A.size[u] * A.size[w] != B.size[(ab + 1) % 3] * B.size[(ab + 2) % 3])
+      continue;
+    const int nA = A.size[a] - 3, nB = B.size[ab] - 3;
+    auto it = rows_of.find({nA, nB});
+    if (it == rows_of.end()) it = rows_of.emplace(std::pair{nA, nB}, line_rows(nA, nB)).first;
+    for (int j = params.margin; j < A.size[w] - params.margin; ++j)
+      for (int i = params.margin; i < A.size[u] - params.margin; ++i) {
+        auto in_a = [&](int d) {
+          std::array<int, 3> idx{};
+          idx[static_cast<std::size_t>(a)] = fa % 2 ? A.size[a] - 1 - d : d, idx[static_cast<std::size_t>(u)] = i, idx[static_cast<std::size_t>(w)] = j;
+          return A.function_ids[local_index(A, idx)];
+        };
+        const int face = in_a(0);
+        // The same point in B, and B's line inward from it.
+        std::size_t local = 0;
+        bool found = false;
+        for (const auto& [blk, at] : where[static_cast<std::size_t>(face)])
+          if (blk == bb) local = at, found = true;
+        if (!found) throw core::TopologyError("raise_continuity: blocks " + std::to_string(ba) + " and " + std::to_string(bb) + " share a face but not its point " + std::to_string(face));
+        std::array<int, 3> idx = grid_index(B, local);
+        if (idx[static_cast<std::size_t>(ab)] != (fb % 2 ? B.size[ab] - 1 : 0)) throw core::TopologyError("raise_continuity: a shared point is not on its block's face");
+        auto in_b = [&](int d) {
+          std::array<int, 3> k = idx;
+          k[static_cast<std::size_t>(ab)] = fb % 2 ? B.size[ab] - 1 - d : d;
+          return B.function_ids[local_index(B, k)];
+        };
+        lines.push_back({in_a(1), in_b(1), {in_a(2), face, in_b(2)}, it->second});
+        face_of_line.push_back(face_index);
+      }
+  }
+  // A row names free points only: drop lines whose rows name another line's extra (or whose
+  // extras are another's), until none does.
+  std::vector<char> keep(lines.size(), 1);
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::map<int, int> extra_count;
+    for (std::size_t l = 0; l < lines.size(); ++l)
+      if (keep[l]) ++extra_count[lines[l].extra_a], ++extra_count[lines[l].extra_b];
+    for (std::size_t l = 0; l < lines.size(); ++l) {
+      if (!keep[l]) continue;
+      bool bad = extra_count[lines[l].extra_a] > 1 || extra_count[lines[l].extra_b] > 1 || lines[l].extra_a == lines[l].extra_b;
+      for (const int ref : lines[l].refs) bad = bad || extra_count.count(ref) > 0;
+      if (bad) keep[l] = 0, changed = true;
+    }
+  }
+  // Positions of the nodes (any occurrence), then the rows and the moved extras.
+  std::vector<Vec3> position(static_cast<std::size_t>(nodes));
+  Eigen::AlignedBox3d box;
+  for (std::size_t id = 0; id < where.size(); ++id)
+    if (!where[id].empty()) {
+      position[id] = blocks[static_cast<std::size_t>(where[id][0].first)].control_points[where[id][0].second];
+      box.extend(Eigen::Vector3d(position[id][0], position[id][1], position[id][2]));
+    }
+  const double tol = 1e-9 * std::max(1.0, box.isEmpty() ? 0.0 : box.diagonal().norm());
+  auto row_point = [&](const Line& line, int side) {
+    const std::array<double, 3>& wt = side ? line.rows.b : line.rows.a;
+    Vec3 x{0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) x[static_cast<std::size_t>(d)] += wt[static_cast<std::size_t>(k)] * position[static_cast<std::size_t>(line.refs[static_cast<std::size_t>(k)])][static_cast<std::size_t>(d)];
+    return x;
+  };
+  if (!params.project)  // only where the spline is C2 along the line already
+    for (std::size_t l = 0; l < lines.size(); ++l)
+      for (int side = 0; side < 2 && keep[l]; ++side) {
+        const Vec3 x = row_point(lines[l], side);
+        const Vec3& y = position[static_cast<std::size_t>(side ? lines[l].extra_b : lines[l].extra_a)];
+        if (std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]) > tol) keep[l] = 0;
+      }
+  std::vector<std::vector<TMesh::Constraint>> added(blocks.size());
+  std::set<int> faces_used;
+  for (std::size_t l = 0; l < lines.size(); ++l) {
+    if (!keep[l]) continue;
+    const Line& line = lines[l];
+    for (int side = 0; side < 2; ++side) {
+      const int extra = side ? line.extra_b : line.extra_a;
+      const std::array<double, 3>& wt = side ? line.rows.b : line.rows.a;
+      const Vec3 x = row_point(line, side);
+      for (const auto& [blk, at] : where[static_cast<std::size_t>(extra)]) {
+        blocks[static_cast<std::size_t>(blk)].control_points[at] = x;
+        TMesh::Constraint c;
+        c.point = static_cast<int>(at);
+        c.smooth = true;
+        for (int k = 0; k < 3; ++k)
+          if (wt[static_cast<std::size_t>(k)] != 0) c.ids.push_back(line.refs[static_cast<std::size_t>(k)]), c.weights.push_back(wt[static_cast<std::size_t>(k)]);
+        added[static_cast<std::size_t>(blk)].push_back(std::move(c));
+      }
+      ++r.constrained;
+    }
+    ++r.lines;
+    faces_used.insert(face_of_line[l]);
+  }
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    if (added[b].empty()) continue;
+    auto& cs = blocks[b].constraints;
+    cs.insert(cs.end(), added[b].begin(), added[b].end());
+    std::sort(cs.begin(), cs.end(), [](const TMesh::Constraint& x, const TMesh::Constraint& y) { return x.point < y.point; });
+  }
+  r.faces = static_cast<int>(faces_used.size());
+  r.faces_kept = pairs - r.faces;
+  return r;
+}
+
+}  // namespace volts::tmesh

@@ -1,0 +1,46 @@
+// volts::tmesh — C2 across the faces between blocks (Liu et al. 2013 §5.3; issue 8 item 1, first
+// step). Each block is a clamped cubic tensor B-spline and blocks share their face points: C0 at
+// every block face, a zero-parametric-length layer (repeated knots) on whole faces. The paper
+// repeats knots only around irregular nodes and is C2 elsewhere. raise_continuity() makes a block
+// face between two blocks of one level C2 across, away from the face's rim: per line of control
+// points crossing the face, the two clamped extras next to it (Greville t - 1/3 and t + 1/3 in
+// index space, one element = one knot interval) become rows of their neighbours (a T-junction-like
+// TMesh::Constraint marked `smooth`), so the spline is the knot-removed one, t a simple knot.
+// Lines within `margin` face points of the face's rim keep the repeated knots: at the block
+// edges, where three (the pillow's corners) or five blocks meet, that is the template of C0
+// around the irregular nodes; at regular edges too for now (tensor rows there are the next step).
+// docs/status.md "Session 39" has the plan.
+#pragma once
+
+#include <vector>
+
+#include "tmesh/tmesh.h"
+
+namespace volts::tmesh {
+
+struct ContinuityParams {
+  /// Lines of control points this close to a face's rim (in face points: 0 = on the rim, 1 = the
+  /// clamped extra next to it) keep C0; below 2 the rows of two faces at an edge would name
+  /// each other's extras [2, 100].
+  int margin = 2;
+  /// true: each constrained point moves onto its row (the spline is projected onto the C2 splines
+  /// along the line); false: only lines where the points lie on their rows already (to 1e-9 of
+  /// the net's extent) get them — the h-refined net of a spline that is C2 there.
+  bool project = true;
+};
+
+struct ContinuityResult {
+  int faces = 0;        ///< block faces made C2 across (some lines)
+  int lines = 0;        ///< lines of control points across them made C2
+  int constrained = 0;  ///< control points that became rows (two per line)
+  int faces_kept = 0;   ///< inner faces left C0: levels differ, T-junctions on them, or no line away from the rim
+};
+
+/// Adds the smooth rows to `blocks` (TMesh::constraints, `smooth` true) and moves each constrained
+/// control point onto its row (the spline near the face changes: it is projected onto the C2
+/// splines along each line). Blocks need function_ids; degree 3 only.
+/// Throws core::ConfigError for another degree or margin out of range, core::InvalidInputError
+/// for blocks without function_ids.
+ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityParams& params = {});
+
+}  // namespace volts::tmesh

@@ -1,0 +1,301 @@
+// C2 across block faces (continuity.h, Liu et al. §5.3): over a family of block complexes — a
+// pillowed cube under smooth maps (core-slab faces), rings of cubes with and without a pillow
+// (cube-cube faces) — the spline is C2 across every face it merged (first and second derivatives
+// across the face centre agree, where before they did not), the rows sum to one and name free
+// nodes only, extract's global basis stays a partition of unity with one function fewer per
+// row, a net that is C2 already gets the same rows without moving, and the optimizer keeps every
+// constrained point on its row.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <set>
+
+#include "bezier/bspline_volume.h"
+#include "core/errors.h"
+#include "extract/extract.h"
+#include "ring_cubes.h"
+#include "tmesh/continuity.h"
+#include "tmesh/optimize.h"
+#include "tmesh/tmesh.h"
+
+using namespace volts;
+using tmesh::Vec3;
+
+namespace {
+
+std::vector<tmesh::TMesh> cube_blocks(const std::function<Vec3(const Vec3&)>& map, int level, int pillow) {
+  tmesh::PolycubeMaps m;
+  m.boundary = {{1, 1, 1, 1, 1, 1}};
+  m.physical = [map](int, const Vec3& abc) { return map(abc); };
+  m.polycube = [](int, const Vec3& abc) { return abc; };
+  tmesh::Params p;
+  p.level = level;
+  p.pillow_layers = pillow;
+  return tmesh::build(m, p);
+}
+
+std::vector<tmesh::TMesh> ring_blocks(int cubes, int level, int pillow) {
+  tmesh::Params p;
+  p.level = level;
+  p.pillow_layers = pillow;
+  return tmesh::build(test::ring(cubes), p);
+}
+
+Vec3 bulged(const Vec3& x) {
+  const double s = std::sin(3.14159265358979 * x[0]) * std::sin(3.14159265358979 * x[1]) * std::sin(3.14159265358979 * x[2]);
+  return {x[0] + 0.15 * s, x[1] + 0.1 * s * x[0], x[2] + 0.2 * x[0] * x[1]};
+}
+
+Vec3 twisted(const Vec3& abc) {
+  const double u = abc[1] - 0.5, v = abc[2] - 0.5;
+  const double t = 0.8 * 64 * abc[0] * (1 - abc[0]) * abc[1] * (1 - abc[1]) * abc[2] * (1 - abc[2]);
+  return {abc[0], 0.5 + u * std::cos(t) - v * std::sin(t), 0.5 + v * std::cos(t) + u * std::sin(t)};
+}
+
+struct Case {
+  const char* name;
+  std::function<std::vector<tmesh::TMesh>()> make;
+};
+
+std::vector<Case> family() {
+  return {{"cube bulged, pillow 1", [] { return cube_blocks(bulged, 3, 1); }},
+          {"cube twisted, pillow 1", [] { return cube_blocks(twisted, 3, 1); }},
+          {"cube twisted, pillow 2", [] { return cube_blocks(twisted, 3, 2); }},
+          {"ring of 4, pillow 0", [] { return ring_blocks(4, 3, 0); }},
+          {"ring of 3, pillow 1", [] { return ring_blocks(3, 3, 1); }}};
+}
+
+// The first and second derivatives, in index units (one element = 1), of block t's spline along
+// its axis `a` at the face `side` of the face centre, toward the face (exact: four points in the
+// element next to the face, where the spline is a cubic polynomial).
+std::pair<Eigen::Vector3d, Eigen::Vector3d> face_derivatives(const tmesh::TMesh& t, int a, int side) {
+  const bezier::TensorBSplineVolume vol = test::volume(t);
+  const int n = t.size[a] - t.degree;
+  const double h = 0.25;  // in index units: four points in the last element
+  Eigen::Vector3d f[4];
+  for (int k = 0; k < 4; ++k) {
+    Eigen::Vector3d uvw(0.5, 0.5, 0.5);
+    uvw[a] = side ? 1.0 - k * h / n : k * h / n;
+    f[k] = bezier::evaluate(vol, uvw);
+  }
+  // Along s toward the face, s = 0 on it and -k h at point k.
+  const Eigen::Vector3d d1 = (11 * f[0] - 18 * f[1] + 9 * f[2] - 2 * f[3]) / (6 * h);
+  const Eigen::Vector3d d2 = (2 * f[0] - 5 * f[1] + 4 * f[2] - f[3]) / (h * h);
+  return {d1, d2};
+}
+
+// The inner faces (two blocks sharing the 4 corner ids of a face) that `raised` made C2 at their
+// centre: the points next to the face at the centre and around it carry smooth rows.
+struct Face {
+  int ba = 0, fa = 0, bb = 0, fb = 0;
+};
+
+std::size_t at(const tmesh::TMesh& t, const std::array<int, 3>& idx) {
+  return static_cast<std::size_t>(idx[0] + t.size[0] * (idx[1] + t.size[1] * idx[2]));
+}
+
+std::vector<Face> merged_faces(const std::vector<tmesh::TMesh>& raised) {
+  std::map<std::array<int, 4>, std::vector<std::pair<int, int>>> faces;
+  for (std::size_t b = 0; b < raised.size(); ++b)
+    for (int f = 0; f < 6; ++f) {
+      const tmesh::TMesh& t = raised[b];
+      if (t.boundary[static_cast<std::size_t>(f)]) continue;
+      const int a = f / 2, u = (a + 1) % 3, w = (a + 2) % 3;
+      std::array<int, 4> key{};
+      for (int c = 0; c < 4; ++c) {
+        std::array<int, 3> idx{};
+        idx[static_cast<std::size_t>(a)] = f % 2 ? t.size[a] - 1 : 0;
+        idx[static_cast<std::size_t>(u)] = (c & 1) ? t.size[u] - 1 : 0, idx[static_cast<std::size_t>(w)] = (c & 2) ? t.size[w] - 1 : 0;
+        key[static_cast<std::size_t>(c)] = t.function_ids[at(t, idx)];
+      }
+      std::sort(key.begin(), key.end());
+      faces[key].push_back({static_cast<int>(b), f});
+    }
+  std::vector<Face> out;
+  for (const auto& [key, list] : faces) {
+    if (list.size() != 2) continue;
+    const auto [ba, fa] = list[0];
+    const tmesh::TMesh& t = raised[static_cast<std::size_t>(ba)];
+    const int a = fa / 2, u = (a + 1) % 3, w = (a + 2) % 3;
+    if (t.size[u] % 2 == 0 || t.size[w] % 2 == 0) continue;  // no line through the centre
+    // The centre is a knot (an even count of elements): the three lines whose functions are
+    // nonzero there, in both directions, must all be C2.
+    bool all = true;
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        std::array<int, 3> idx{};
+        idx[static_cast<std::size_t>(a)] = fa % 2 ? t.size[a] - 2 : 1;
+        idx[static_cast<std::size_t>(u)] = t.size[u] / 2 + di, idx[static_cast<std::size_t>(w)] = t.size[w] / 2 + dj;
+        const int point = static_cast<int>(at(t, idx));
+        all = all && std::any_of(t.constraints.begin(), t.constraints.end(), [&](const tmesh::TMesh::Constraint& k) { return k.point == point && k.smooth; });
+      }
+    if (all) out.push_back({ba, fa, list[1].first, list[1].second});
+  }
+  return out;
+}
+
+// The jumps of the first and second derivatives across a face's centre (one block's toward the
+// face against the other's away from it), and the size of the first block's derivatives.
+struct Jump {
+  double d1 = 0, d2 = 0, scale = 0;
+};
+
+Jump jump(const std::vector<tmesh::TMesh>& ts, const Face& f) {
+  const auto [a1, a2] = face_derivatives(ts[static_cast<std::size_t>(f.ba)], f.fa / 2, f.fa % 2);
+  const auto [b1, b2] = face_derivatives(ts[static_cast<std::size_t>(f.bb)], f.fb / 2, f.fb % 2);
+  // B's "toward its face" is A's "away": the first derivatives are opposite, the second equal.
+  return {(a1 + b1).norm(), (a2 - b2).norm(), a1.norm() + a2.norm()};
+}
+
+// Every node's point by id.
+std::map<int, Eigen::Vector3d> points_by_id(const std::vector<tmesh::TMesh>& ts) {
+  std::map<int, Eigen::Vector3d> p;
+  for (const auto& t : ts)
+    for (std::size_t i = 0; i < t.function_ids.size(); ++i)
+      p[t.function_ids[i]] = Eigen::Vector3d(t.control_points[i][0], t.control_points[i][1], t.control_points[i][2]);
+  return p;
+}
+
+// The largest distance of a constrained point from its row's combination.
+double off_rows(const std::vector<tmesh::TMesh>& ts) {
+  const auto p = points_by_id(ts);
+  double off = 0;
+  for (const auto& t : ts)
+    for (const auto& k : t.constraints) {
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (std::size_t m = 0; m < k.ids.size(); ++m) x += k.weights[m] * p.at(k.ids[m]);
+      off = std::max(off, (x - p.at(t.function_ids[static_cast<std::size_t>(k.point)])).norm());
+    }
+  return off;
+}
+
+}  // namespace
+
+TEST(Continuity, MergedFacesAreC2AcrossTheirCentre) {
+  for (const Case& c : family()) {
+    std::vector<tmesh::TMesh> ts = c.make();
+    const std::vector<tmesh::TMesh> start = ts;
+    const tmesh::ContinuityResult r = tmesh::raise_continuity(ts);
+    const std::vector<Face> faces = merged_faces(ts);
+    std::printf("%s: %d faces made C2 (%d lines, %d rows), %d kept C0; %zu through their centre\n", c.name, r.faces, r.lines, r.constrained,
+                r.faces_kept, faces.size());
+    EXPECT_GT(r.faces, 0);
+    EXPECT_GT(faces.size(), 0u);
+    EXPECT_EQ(r.constrained, 2 * r.lines);
+    double worst_before = 0, worst_after = 0;
+    for (const Face& f : faces) {
+      const Jump j0 = jump(start, f), j = jump(ts, f);
+      EXPECT_LT(j.d1, 1e-9 * j.scale) << c.name << ": not C1 at the face of blocks " << f.ba << ", " << f.bb;
+      worst_before = std::max(worst_before, j0.d2 / j0.scale);
+      worst_after = std::max(worst_after, j.d2 / j.scale);
+    }
+    std::printf("  second-derivative jump at the face centres (relative): %.3g before, %.3g after\n", worst_before, worst_after);
+    EXPECT_LT(worst_after, 1e-8);
+    EXPECT_GT(worst_before, 1e-6) << c.name << ": C2 before, the check proves nothing";
+  }
+}
+
+TEST(Continuity, RowsSumToOneNameFreeNodesAndKeepAPartitionOfUnity) {
+  for (const Case& c : family()) {
+    std::vector<tmesh::TMesh> ts = c.make();
+    const std::vector<bezier::BezierHex> hexes0 = [&] {
+      std::vector<bezier::BezierHex> h;
+      for (const auto& t : ts) {
+        const auto e = bezier::extract_bezier_hexes(test::volume(t));
+        h.insert(h.end(), e.begin(), e.end());
+      }
+      return h;
+    }();
+    const extract::GlobalBasis g0 = extract::global_basis(ts, hexes0, false);
+    const tmesh::ContinuityResult r = tmesh::raise_continuity(ts);
+    std::set<int> constrained;
+    for (const auto& t : ts)
+      for (const auto& k : t.constraints) {
+        EXPECT_TRUE(k.smooth);
+        constrained.insert(t.function_ids[static_cast<std::size_t>(k.point)]);
+        double sum = 0;
+        for (const double w : k.weights) sum += w;
+        EXPECT_NEAR(sum, 1.0, 1e-12);
+      }
+    for (const auto& t : ts)
+      for (const auto& k : t.constraints)
+        for (const int m : k.ids) EXPECT_EQ(constrained.count(m), 0u) << c.name << ": a row names a constrained point";
+    EXPECT_EQ(static_cast<int>(constrained.size()), r.constrained);
+    EXPECT_LT(off_rows(ts), 1e-12);
+    std::vector<bezier::BezierHex> hexes;
+    for (const auto& t : ts) {
+      const auto e = bezier::extract_bezier_hexes(test::volume(t));
+      hexes.insert(hexes.end(), e.begin(), e.end());
+    }
+    const extract::GlobalBasis g = extract::global_basis(ts, hexes, false);
+    std::printf("%s: %zu -> %zu global functions, partition of unity within %.1e\n", c.name, g0.points.size(), g.points.size(), g.partition_of_unity_error);
+    EXPECT_EQ(g.points.size() + static_cast<std::size_t>(r.constrained), g0.points.size());
+    EXPECT_LT(g.partition_of_unity_error, 1e-12);
+  }
+}
+
+TEST(Continuity, ANetThatIsC2AlreadyGetsTheSameRowsWithoutMoving) {
+  for (const Case& c : family()) {
+    std::vector<tmesh::TMesh> ts = c.make();
+    const tmesh::ContinuityResult r = tmesh::raise_continuity(ts);
+    std::vector<tmesh::TMesh> again = ts;
+    for (auto& t : again) t.constraints.clear();
+    tmesh::ContinuityParams keep;
+    keep.project = false;
+    const tmesh::ContinuityResult r2 = tmesh::raise_continuity(again, keep);
+    EXPECT_EQ(r2.lines, r.lines) << c.name;
+    for (std::size_t b = 0; b < ts.size(); ++b) {
+      EXPECT_EQ(again[b].control_points, ts[b].control_points) << c.name << ": a point moved";
+      ASSERT_EQ(again[b].constraints.size(), ts[b].constraints.size());
+      for (std::size_t k = 0; k < ts[b].constraints.size(); ++k) {
+        EXPECT_EQ(again[b].constraints[k].point, ts[b].constraints[k].point);
+        EXPECT_EQ(again[b].constraints[k].ids, ts[b].constraints[k].ids);
+      }
+    }
+    // The interpolating net of a curved map is not C2 across the faces: without projecting,
+    // fewer lines qualify.
+    std::vector<tmesh::TMesh> fresh = c.make();
+    const tmesh::ContinuityResult r0 = tmesh::raise_continuity(fresh, keep);
+    EXPECT_LT(r0.lines, r.lines) << c.name;
+  }
+}
+
+TEST(Continuity, TheOptimizerKeepsEveryConstrainedPointOnItsRow) {
+  std::vector<tmesh::TMesh> ts = cube_blocks(twisted, 3, 1);
+  tmesh::raise_continuity(ts);
+  const std::vector<tmesh::TMesh> start = ts;
+  tmesh::OptimizeParams op;
+  op.target = 0.95;
+  op.sweeps = 1;
+  op.joint_rounds = 2;
+  op.joint_evaluations = 30;
+  op.gauss_points = 2;
+  op.check_points = 0;
+  const tmesh::OptimizeResult r = tmesh::optimize(ts, op);
+  std::printf("twisted cube, pillow 1: worst %.4f -> %.4f, %d nodes moved, %d joint rounds\n", r.min_before, r.min_after, r.nodes_moved, r.joint_rounds);
+  EXPECT_GE(r.min_after, r.min_before);
+  EXPECT_GT(r.min_after, r.min_before + 1e-3);  // moves happened
+  EXPECT_LT(off_rows(ts), 1e-12);
+  for (const Face& f : merged_faces(ts)) EXPECT_LT(jump(ts, f).d2, 1e-8 * jump(ts, f).scale);
+}
+
+TEST(Continuity, BadInputIsRefused) {
+  std::vector<tmesh::TMesh> ts = cube_blocks(twisted, 3, 1);
+  tmesh::ContinuityParams p;
+  p.margin = 1;
+  EXPECT_THROW(tmesh::raise_continuity(ts, p), core::ConfigError);
+  std::vector<tmesh::TMesh> no_ids = ts;
+  no_ids[0].function_ids.clear();
+  EXPECT_THROW(tmesh::raise_continuity(no_ids), core::InvalidInputError);
+  tmesh::PolycubeMaps m;
+  m.boundary = {{1, 1, 1, 1, 1, 1}};
+  m.physical = [](int, const Vec3& abc) { return abc; };
+  m.polycube = [](int, const Vec3& abc) { return abc; };
+  tmesh::Params quad;
+  quad.level = 3, quad.pillow_layers = 1, quad.degree = 2;
+  std::vector<tmesh::TMesh> q = tmesh::build(m, quad);
+  EXPECT_THROW(tmesh::raise_continuity(q), core::ConfigError);
+}
