@@ -83,6 +83,11 @@ const std::vector<Model>& all_models() {
       {"rod-e275", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {joint_evaluations: 275}"},
       {"rod-e325", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {joint_evaluations: 325}"},
       {"rod-e350", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {joint_evaluations: 350}"},
+      // C2 across the faces between blocks (tmesh.continuity c2, session 39): the figures and the
+      // global functions against the defaults' C0.
+      {"torus-c2", "torus", "", 24, &kTorus, 0.5, "tmesh: {continuity: c2}"},
+      {"eight-c2", "", "cfwen_eight.off", 24, &kEight, 0.4, "tmesh: {continuity: c2}"},
+      {"rod-c2", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {continuity: c2}"},
       {"tube", "", "vhacd_tube1.off", 24, nullptr},
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},

@@ -12,6 +12,7 @@
 #include "polycube_input.h"
 #include "stage_main.h"
 #include "surface/mesh_json.h"
+#include "tmesh/continuity.h"
 #include "tmesh/optimize.h"
 #include "tmesh/tmesh.h"
 
@@ -110,6 +111,19 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   }
   const core::Json& surface = in.surface;
   const tmesh::PolycubeMaps& maps = in.maps;
+  // tmesh.continuity c2: smooth rows across the block faces of the net that is optimized (the
+  // spline is projected onto them), and again on the h-refined net wherever it is C2 (below).
+  core::Json continuity = {{"mode", params.continuity}};
+  auto continuity_json = [](const tmesh::ContinuityResult& c) {
+    return core::Json{{"faces", c.faces}, {"lines", c.lines}, {"constrained", c.constrained}, {"faces_kept", c.faces_kept}};
+  };
+  if (params.continuity == "c2") {
+    core::LogSection s("C2 across block faces");
+    const tmesh::ContinuityResult c = tmesh::raise_continuity(ts);
+    core::log(std::to_string(c.faces) + " block faces C2 across (" + std::to_string(c.lines) + " lines of control points, " + std::to_string(c.constrained) +
+              " clamped extras now rows), " + std::to_string(c.faces_kept) + " kept C0");
+    continuity["optimized"] = continuity_json(c);
+  }
   {
     std::map<int, int> per_level;
     for (const int l : levels.level) ++per_level[l];
@@ -172,6 +186,13 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
     }
     core::log("every element split in " + std::to_string(1 << (3 * params.h_refine)) + ": " + std::to_string(optimized_elements) + " -> " +
               std::to_string(parent.size()) + " elements");
+    if (params.continuity == "c2") {
+      tmesh::ContinuityParams keep;
+      keep.project = false;  // the same spline: rows only where it is C2 already
+      const tmesh::ContinuityResult c = tmesh::raise_continuity(ts, keep);
+      core::log("on the refined net: " + std::to_string(c.lines) + " lines of control points C2 across " + std::to_string(c.faces) + " block faces");
+      continuity["refined"] = continuity_json(c);
+    }
   }
   // Folds the optimization left are repaired on the refined net: there every optimized element
   // has 8 (or 64) of its own, with their own control points, where the coarse net had too few (the
@@ -240,6 +261,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   fig["optimization"]["refined_trilinear_pass"] = refined_pass;
   fig["optimization"]["refined_repair"] = repair;
   fig["h_refine"] = params.h_refine;
+  fig["continuity"] = continuity;
   fig["level_optimized"] = params.level;
   fig["elements_optimized"] = optimized_elements;
   core::log(std::to_string(fig["blocks"].get<int>()) + " blocks, " + std::to_string(fig["elements"].get<int>()) + " elements, " +

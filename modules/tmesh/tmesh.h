@@ -66,6 +66,11 @@ struct Params {
   /// When they start sliding: "stall" (once the rounds with fixed surface nodes stop), "start" or
   /// "valid" (once every element is certified valid) (OptimizeParams::slide_from).
   std::string slide_from = "valid";
+  /// Continuity across the faces between blocks: "c0" (every block face a zero-parametric-length
+  /// layer) or "c2" (raise_continuity(), continuity.h: C2 across the faces between blocks of one
+  /// level away from their rims — C0 stays within two control points of every block edge, the
+  /// template around irregular nodes; cubic only).
+  std::string continuity = "c0";
   /// Surface nodes on sharp curves slide along them too, away from sharp corners
   /// (OptimizeParams::slide_sharp_curves).
   bool slide_sharp_curves = false;

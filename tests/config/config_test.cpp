@@ -146,12 +146,14 @@ TEST(Config, EmittedYamlParsesBackToTheSameConfig) {
 
 TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("test.yaml: unknown key 'tmesh.levle'"), std::string::npos);
-  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: check_points, check_tolerance, degree, deviation_samples, epsilon_rel, grid_points, h_refine, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: check_points, check_tolerance, continuity, degree, deviation_samples, epsilon_rel, grid_points, h_refine, joint_evaluations, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
   EXPECT_NE(config_error("clasify: {}\n").find("unknown key 'clasify'"), std::string::npos);
   EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
 }
 
 TEST(Config, WrongTypesAndRangesAreErrorsWithTheirPath) {
+  EXPECT_NE(config_error("tmesh: {continuity: c1}\n").find("tmesh.continuity"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {continuity: c2, degree: 2}\n").find("tmesh.continuity: c2 is for cubic splines"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {level: three}\n").find("tmesh.level: must be an integer, got 'three'"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {level: 9}\n").find("tmesh.level: 9 is out of range [1, 7]"), std::string::npos);
   EXPECT_NE(config_error("classify: {sharp_angle_deg: 0}\n").find("classify.sharp_angle_deg: 0 is out of range"), std::string::npos);
