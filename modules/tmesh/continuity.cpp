@@ -76,6 +76,32 @@ struct Line {
 
 }  // namespace
 
+std::vector<SharedFace> shared_faces(const std::vector<TMesh>& blocks) {
+  std::map<std::array<int, 4>, std::vector<std::pair<int, int>>> faces;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const TMesh& t = blocks[b];
+    if (t.function_ids.size() != t.control_points.size())
+      throw core::InvalidInputError("shared_faces: block " + std::to_string(b) + " has no function ids (blocks must share their face points)");
+    for (int f = 0; f < 6; ++f) {
+      if (t.boundary[static_cast<std::size_t>(f)]) continue;
+      const int a = f / 2, u = (a + 1) % 3, w = (a + 2) % 3;
+      std::array<int, 4> key{};
+      for (int c = 0; c < 4; ++c) {
+        std::array<int, 3> idx{};
+        idx[static_cast<std::size_t>(a)] = f % 2 ? t.size[a] - 1 : 0;
+        idx[static_cast<std::size_t>(u)] = (c & 1) ? t.size[u] - 1 : 0, idx[static_cast<std::size_t>(w)] = (c & 2) ? t.size[w] - 1 : 0;
+        key[static_cast<std::size_t>(c)] = t.function_ids[local_index(t, idx)];
+      }
+      std::sort(key.begin(), key.end());
+      faces[key].push_back({static_cast<int>(b), f});
+    }
+  }
+  std::vector<SharedFace> out;
+  for (const auto& [key, list] : faces)
+    if (list.size() == 2) out.push_back({list[0].first, list[0].second, list[1].first, list[1].second});
+  return out;
+}
+
 ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityParams& params) {
   if (params.margin < 2 || params.margin > 100) throw core::ConfigError("raise_continuity: margin must be in [2, 100]");
   ContinuityResult r;
@@ -90,32 +116,14 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
   std::vector<std::vector<std::pair<int, std::size_t>>> where(static_cast<std::size_t>(nodes));
   for (std::size_t b = 0; b < blocks.size(); ++b)
     for (std::size_t i = 0; i < blocks[b].function_ids.size(); ++i) where[static_cast<std::size_t>(blocks[b].function_ids[i])].push_back({static_cast<int>(b), i});
-  // Inner faces by their corner ids; a face of two blocks of one level, neither with T-junctions.
-  std::map<std::array<int, 4>, std::vector<std::pair<int, int>>> faces;
-  for (std::size_t b = 0; b < blocks.size(); ++b)
-    for (int f = 0; f < 6; ++f) {
-      const TMesh& t = blocks[b];
-      if (t.boundary[static_cast<std::size_t>(f)]) continue;
-      const int a = f / 2, u = (a + 1) % 3, w = (a + 2) % 3;
-      std::array<int, 4> key{};
-      for (int c = 0; c < 4; ++c) {
-        std::array<int, 3> idx{};
-        idx[static_cast<std::size_t>(a)] = f % 2 ? t.size[a] - 1 : 0;
-        idx[static_cast<std::size_t>(u)] = (c & 1) ? t.size[u] - 1 : 0, idx[static_cast<std::size_t>(w)] = (c & 2) ? t.size[w] - 1 : 0;
-        key[static_cast<std::size_t>(c)] = t.function_ids[local_index(t, idx)];
-      }
-      std::sort(key.begin(), key.end());
-      faces[key].push_back({static_cast<int>(b), f});
-    }
   std::map<std::pair<int, int>, LineRows> rows_of;  // per (nA, nB)
   std::vector<Line> lines;
   std::vector<int> face_of_line;
-  int pairs = 0;
-  for (const auto& [key, list] : faces) {
-    if (list.size() != 2) continue;
-    const int face_index = pairs++;
-    const auto [ba, fa] = list[0];
-    const auto [bb, fb] = list[1];
+  // Faces of two blocks of one level, neither with T-junctions.
+  const std::vector<SharedFace> faces = shared_faces(blocks);
+  const int pairs = static_cast<int>(faces.size());
+  for (int face_index = 0; face_index < pairs; ++face_index) {
+    const auto [ba, fa, bb, fb] = faces[static_cast<std::size_t>(face_index)];
     const TMesh& A = blocks[static_cast<std::size_t>(ba)];
     const TMesh& B = blocks[static_cast<std::size_t>(bb)];
     const int a = fa / 2, u = (a + 1) % 3, w = (a + 2) % 3, ab = fb / 2;

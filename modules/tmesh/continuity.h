@@ -36,6 +36,16 @@ struct ContinuityResult {
   int faces_kept = 0;   ///< inner faces left C0: levels differ, T-junctions on them, or no line away from the rim
 };
 
+/// A block face two blocks share (the same four corner ids): face `fa` (2·axis + side) of block
+/// `a` is face `fb` of block `b`.
+struct SharedFace {
+  int a = 0, fa = 0, b = 0, fb = 0;
+};
+
+/// The inner faces (not on the surface) that exactly two blocks share, in the order of their
+/// sorted corner ids. Blocks need function_ids (core::InvalidInputError otherwise).
+std::vector<SharedFace> shared_faces(const std::vector<TMesh>& blocks);
+
 /// Adds the smooth rows to `blocks` (TMesh::constraints, `smooth` true) and moves each constrained
 /// control point onto its row (the spline near the face changes: it is projected onto the C2
 /// splines along each line). Blocks need function_ids; degree 3 only.

@@ -98,26 +98,9 @@ std::size_t at(const tmesh::TMesh& t, const std::array<int, 3>& idx) {
 }
 
 std::vector<Face> merged_faces(const std::vector<tmesh::TMesh>& raised) {
-  std::map<std::array<int, 4>, std::vector<std::pair<int, int>>> faces;
-  for (std::size_t b = 0; b < raised.size(); ++b)
-    for (int f = 0; f < 6; ++f) {
-      const tmesh::TMesh& t = raised[b];
-      if (t.boundary[static_cast<std::size_t>(f)]) continue;
-      const int a = f / 2, u = (a + 1) % 3, w = (a + 2) % 3;
-      std::array<int, 4> key{};
-      for (int c = 0; c < 4; ++c) {
-        std::array<int, 3> idx{};
-        idx[static_cast<std::size_t>(a)] = f % 2 ? t.size[a] - 1 : 0;
-        idx[static_cast<std::size_t>(u)] = (c & 1) ? t.size[u] - 1 : 0, idx[static_cast<std::size_t>(w)] = (c & 2) ? t.size[w] - 1 : 0;
-        key[static_cast<std::size_t>(c)] = t.function_ids[at(t, idx)];
-      }
-      std::sort(key.begin(), key.end());
-      faces[key].push_back({static_cast<int>(b), f});
-    }
   std::vector<Face> out;
-  for (const auto& [key, list] : faces) {
-    if (list.size() != 2) continue;
-    const auto [ba, fa] = list[0];
+  for (const tmesh::SharedFace& sf : tmesh::shared_faces(raised)) {
+    const int ba = sf.a, fa = sf.fa;
     const tmesh::TMesh& t = raised[static_cast<std::size_t>(ba)];
     const int a = fa / 2, u = (a + 1) % 3, w = (a + 2) % 3;
     if (t.size[u] % 2 == 0 || t.size[w] % 2 == 0) continue;  // no line through the centre
@@ -132,7 +115,7 @@ std::vector<Face> merged_faces(const std::vector<tmesh::TMesh>& raised) {
         const int point = static_cast<int>(at(t, idx));
         all = all && std::any_of(t.constraints.begin(), t.constraints.end(), [&](const tmesh::TMesh::Constraint& k) { return k.point == point && k.smooth; });
       }
-    if (all) out.push_back({ba, fa, list[1].first, list[1].second});
+    if (all) out.push_back({ba, fa, sf.b, sf.fb});
   }
   return out;
 }
