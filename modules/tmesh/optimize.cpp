@@ -1534,7 +1534,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
       double w = 0;
       int inv = 0;
       summary(&w, &inv);
-      if (!kept.better_than(w, inv) && !(kept.worst == w && kept.invalid == inv)) kept = {points_of(), w, inv, cycle + 1};
+      if (inv < kept.invalid || (inv == kept.invalid && w > kept.worst)) kept = {points_of(), w, inv, cycle + 1};
     }
     if (dips > 0) {
       if (cycle + 1 == params.cycles) {
