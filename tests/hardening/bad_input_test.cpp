@@ -312,6 +312,13 @@ std::vector<BadInput> catalogue() {
                                                          {{"point", 1}, {"ids", {t["function_ids"][0]}}, {"weights", {1.0}}}});
                  },
                  "which is no function"),
+      // A smooth row (tmesh.continuity c2, session 39) whose flag is not a boolean.
+      stage_json("TmeshSmoothFlagNotBoolean", "tmesh", "volts-extract",
+                 [](core::Json& j) {
+                   auto& t = j["tmeshes"][0];
+                   t["constraints"] = core::Json::array({{{"point", 0}, {"ids", {t["function_ids"][1]}}, {"weights", {1.0}}, {"smooth", "yes"}}});
+                 },
+                 "tmesh constraint key \"smooth\" is not a boolean"),
       stage_json("TmeshUnknownBlockKind", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["kind"] = "wedge"; },
                  "unknown tmesh block kind 'wedge'"),
       stage_json("TmeshBlockCornerOutsideCube", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][1]["corners"][7][0] = 1.6; },
