@@ -227,7 +227,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
       // optimizer, 0.337 on extract's 7³ grid (session 39).
       tp.grid_points = 7;
       const tmesh::OptimizeResult tr = tmesh::optimize(ts, tp, nullptr);
-      opt.element_after = tr.element_after;  // the pass's sample (corners and Gauss points) from here on
+      opt.element_after = tr.element_after;  // the pass's sample (Gauss points and the 7³ grid) from here on
       refined_pass = {{"trilinear_before", tr.trilinear_before}, {"trilinear_after", tr.trilinear_after},
                       {"nodes_moved", tr.trilinear_nodes_moved}, {"bezier_min_scaled_jacobian_before", tr.min_before},
                       {"bezier_min_scaled_jacobian_after", tr.min_after},
