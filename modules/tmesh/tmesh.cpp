@@ -397,24 +397,36 @@ std::vector<double> block_deviation(const std::vector<TMesh>& ts, const std::fun
   core::parallel_for(ts.size(), [&](std::size_t b) {
     const TMesh& t = ts[b];
     if (!has_surface_face(t)) return;
-    bezier::TensorBSplineVolume vol;
-    vol.degree = {t.degree, t.degree, t.degree};
-    vol.knots = t.knots;
-    for (const auto& p : t.control_points) vol.points.emplace_back(p[0], p[1], p[2]);
+    // The basis values of every abscissa once per axis, then the sum bezier::evaluate makes
+    // (same terms, same order: the same bits), without its per-point checks and basis solves.
     std::array<std::vector<double>, 3> g;
-    for (std::size_t a = 0; a < 3; ++a)
+    std::array<std::vector<bezier::BasisValues>, 3> basis;
+    for (std::size_t a = 0; a < 3; ++a) {
       for (const auto& iv : bezier::element_intervals(t.knots[a], t.degree))
         for (int i = g[a].empty() ? 0 : 1; i < points; ++i) g[a].push_back(iv[0] + (iv[1] - iv[0]) * i / (points - 1));
+      for (const double x : g[a]) basis[a].push_back(bezier::basis_functions(t.knots[a], t.degree, x));
+    }
+    const int n0 = t.size[0], n1 = t.size[1], p = t.degree;
     for (int f = 0; f < 6; ++f) {
       if (!t.boundary[static_cast<std::size_t>(f)]) continue;
       const std::size_t a = static_cast<std::size_t>(f / 2), u = (a + 1) % 3, v = (a + 2) % 3;
-      for (const double x : g[u])
-        for (const double y : g[v]) {
-          Eigen::Vector3d q;
-          q[static_cast<Eigen::Index>(a)] = f % 2 ? g[a].back() : g[a].front();
-          q[static_cast<Eigen::Index>(u)] = x, q[static_cast<Eigen::Index>(v)] = y;
-          const Eigen::Vector3d p = bezier::evaluate(vol, q);
-          dev[b] = std::max(dev[b], distance({p[0], p[1], p[2]}));
+      std::array<std::size_t, 3> at{};
+      at[a] = f % 2 ? g[a].size() - 1 : 0;
+      for (at[u] = 0; at[u] < g[u].size(); ++at[u])
+        for (at[v] = 0; at[v] < g[v].size(); ++at[v]) {
+          const bezier::BasisValues &B0 = basis[0][at[0]], &B1 = basis[1][at[1]], &B2 = basis[2][at[2]];
+          Eigen::Vector3d A = Eigen::Vector3d::Zero();
+          double W = 0.0;
+          for (int c = 0; c <= p; ++c)
+            for (int bb = 0; bb <= p; ++bb)
+              for (int i = 0; i <= p; ++i) {
+                const Vec3& x = t.control_points[static_cast<std::size_t>((B0.span - p + i) + n0 * ((B1.span - p + bb) + n1 * (B2.span - p + c)))];
+                const double w = 1.0 * B0.values[i] * B1.values[bb] * B2.values[c];
+                A += w * Eigen::Vector3d(x[0], x[1], x[2]);
+                W += w;
+              }
+          const Eigen::Vector3d y = A / W;
+          dev[b] = std::max(dev[b], distance({y[0], y[1], y[2]}));
         }
     }
   }, 1);
