@@ -389,6 +389,37 @@ namespace {
 
 bool has_surface_face(const TMesh& t) { return std::any_of(t.boundary.begin(), t.boundary.end(), [](int f) { return f != 0; }); }
 
+// The spline of one block at the points of a tensor grid g[0] × g[1] × g[2] of its parameters:
+// the sum bezier::evaluate makes (same terms, same order: the same bits), with the basis values
+// of each abscissa computed once instead of at every point (with its checks of the knot vectors).
+class BlockGrid {
+ public:
+  BlockGrid(const TMesh& t, const std::array<std::vector<double>, 3>& g) : t_(t) {
+    for (std::size_t a = 0; a < 3; ++a)
+      for (const double x : g[a]) basis_[a].push_back(bezier::basis_functions(t.knots[a], t.degree, x));
+  }
+  Vec3 at(std::size_t i, std::size_t j, std::size_t k) const {
+    const bezier::BasisValues &B0 = basis_[0][i], &B1 = basis_[1][j], &B2 = basis_[2][k];
+    const int p = t_.degree, n0 = t_.size[0], n1 = t_.size[1];
+    Eigen::Vector3d A = Eigen::Vector3d::Zero();
+    double W = 0.0;
+    for (int c = 0; c <= p; ++c)
+      for (int b = 0; b <= p; ++b)
+        for (int a = 0; a <= p; ++a) {
+          const Vec3& x = t_.control_points[static_cast<std::size_t>((B0.span - p + a) + n0 * ((B1.span - p + b) + n1 * (B2.span - p + c)))];
+          const double w = 1.0 * B0.values[a] * B1.values[b] * B2.values[c];  // bezier::evaluate's weight 1 first
+          A += w * Eigen::Vector3d(x[0], x[1], x[2]);
+          W += w;
+        }
+    const Eigen::Vector3d y = A / W;
+    return {y[0], y[1], y[2]};
+  }
+
+ private:
+  const TMesh& t_;
+  std::array<std::vector<bezier::BasisValues>, 3> basis_;
+};
+
 // Per block of ts: the largest distance at its boundary faces (0 without one), on a uniform grid
 // of `points` per element direction (corners included). Blocks in parallel: the distance is a
 // const query (an AABB tree).
@@ -397,16 +428,11 @@ std::vector<double> block_deviation(const std::vector<TMesh>& ts, const std::fun
   core::parallel_for(ts.size(), [&](std::size_t b) {
     const TMesh& t = ts[b];
     if (!has_surface_face(t)) return;
-    // The basis values of every abscissa once per axis, then the sum bezier::evaluate makes
-    // (same terms, same order: the same bits), without its per-point checks and basis solves.
     std::array<std::vector<double>, 3> g;
-    std::array<std::vector<bezier::BasisValues>, 3> basis;
-    for (std::size_t a = 0; a < 3; ++a) {
+    for (std::size_t a = 0; a < 3; ++a)
       for (const auto& iv : bezier::element_intervals(t.knots[a], t.degree))
         for (int i = g[a].empty() ? 0 : 1; i < points; ++i) g[a].push_back(iv[0] + (iv[1] - iv[0]) * i / (points - 1));
-      for (const double x : g[a]) basis[a].push_back(bezier::basis_functions(t.knots[a], t.degree, x));
-    }
-    const int n0 = t.size[0], n1 = t.size[1], p = t.degree;
+    const BlockGrid grid(t, g);
     for (int f = 0; f < 6; ++f) {
       if (!t.boundary[static_cast<std::size_t>(f)]) continue;
       const std::size_t a = static_cast<std::size_t>(f / 2), u = (a + 1) % 3, v = (a + 2) % 3;
@@ -414,19 +440,7 @@ std::vector<double> block_deviation(const std::vector<TMesh>& ts, const std::fun
       at[a] = f % 2 ? g[a].size() - 1 : 0;
       for (at[u] = 0; at[u] < g[u].size(); ++at[u])
         for (at[v] = 0; at[v] < g[v].size(); ++at[v]) {
-          const bezier::BasisValues &B0 = basis[0][at[0]], &B1 = basis[1][at[1]], &B2 = basis[2][at[2]];
-          Eigen::Vector3d A = Eigen::Vector3d::Zero();
-          double W = 0.0;
-          for (int c = 0; c <= p; ++c)
-            for (int bb = 0; bb <= p; ++bb)
-              for (int i = 0; i <= p; ++i) {
-                const Vec3& x = t.control_points[static_cast<std::size_t>((B0.span - p + i) + n0 * ((B1.span - p + bb) + n1 * (B2.span - p + c)))];
-                const double w = 1.0 * B0.values[i] * B1.values[bb] * B2.values[c];
-                A += w * Eigen::Vector3d(x[0], x[1], x[2]);
-                W += w;
-              }
-          const Eigen::Vector3d y = A / W;
-          dev[b] = std::max(dev[b], distance({y[0], y[1], y[2]}));
+          dev[b] = std::max(dev[b], distance(grid.at(at[0], at[1], at[2])));
         }
     }
   }, 1);
@@ -828,32 +842,30 @@ std::vector<std::vector<int>> global_ids(const std::vector<TMesh>& ts, int* coun
 
 // The spline at the knot grid of t (element corners), index i + (n0+1)*(j + (n1+1)*k), and the
 // number of elements per direction.
-std::vector<Vec3> corner_grid(const TMesh& t, std::array<int, 3>* n) {
-  bezier::TensorBSplineVolume vol;
-  vol.degree = {t.degree, t.degree, t.degree};
-  vol.knots = t.knots;
-  for (const auto& p : t.control_points) vol.points.emplace_back(p[0], p[1], p[2]);
+// The spline at the corners of t's elements, each split in `splits` per direction (n: elements
+// per direction after the split), i fastest.
+std::vector<Vec3> corner_grid(const TMesh& t, std::array<int, 3>* n, int splits = 1) {
   std::array<std::vector<double>, 3> g;
-  for (int a = 0; a < 3; ++a) {
-    for (const auto& iv : bezier::element_intervals(t.knots[a], t.degree)) g[a].push_back(iv[0]);
-    g[a].push_back(bezier::element_intervals(t.knots[a], t.degree).back()[1]);
+  for (std::size_t a = 0; a < 3; ++a) {
+    const auto intervals = bezier::element_intervals(t.knots[a], t.degree);
+    for (const auto& iv : intervals)
+      for (int i = 0; i < splits; ++i) g[a].push_back(i == 0 ? iv[0] : iv[0] + (iv[1] - iv[0]) * i / splits);
+    g[a].push_back(intervals.back()[1]);
     (*n)[a] = static_cast<int>(g[a].size()) - 1;
   }
+  const BlockGrid grid(t, g);
   std::vector<Vec3> x;
-  for (const double w : g[2])
-    for (const double v : g[1])
-      for (const double u : g[0]) {
-        const Eigen::Vector3d p = bezier::evaluate(vol, Eigen::Vector3d(u, v, w));
-        x.push_back({p[0], p[1], p[2]});
-      }
+  for (std::size_t k = 0; k < g[2].size(); ++k)
+    for (std::size_t j = 0; j < g[1].size(); ++j)
+      for (std::size_t i = 0; i < g[0].size(); ++i) x.push_back(grid.at(i, j, k));
   return x;
 }
 
 // Calls f(corners in VTK order) for every element of t, as a trilinear hex of its corner points.
 template <class F>
-void for_each_trilinear_element(const TMesh& t, F&& f) {
+void for_each_trilinear_element(const TMesh& t, F&& f, int splits = 1) {
   std::array<int, 3> n{};
-  const std::vector<Vec3> x = corner_grid(t, &n);
+  const std::vector<Vec3> x = corner_grid(t, &n, splits);
   auto at = [&](int i, int j, int k) { return static_cast<std::size_t>(i + (n[0] + 1) * (j + (n[1] + 1) * k)); };
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
@@ -1027,9 +1039,10 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
   return c;
 }
 
-double min_element_scaled_jacobian(const TMesh& t) {
+double min_element_scaled_jacobian(const TMesh& t, int h_refine) {
+  if (h_refine < 0 || h_refine > 3) throw core::ConfigError("tmesh::min_element_scaled_jacobian: h_refine must be in [0, 3], got " + std::to_string(h_refine));
   double worst = std::numeric_limits<double>::infinity();
-  for_each_trilinear_element(t, [&](const std::array<Vec3, 8>& c) { worst = std::min(worst, trilinear_min_scaled_jacobian(c)); });
+  for_each_trilinear_element(t, [&](const std::array<Vec3, 8>& c) { worst = std::min(worst, trilinear_min_scaled_jacobian(c)); }, 1 << h_refine);
   return worst;
 }
 

@@ -266,7 +266,10 @@ NodeCounts count_nodes(const std::vector<TMesh>& t);
 /// element's corners are the spline at its knot-grid corners (before optimization, the volume map
 /// there, up to the interpolation error). The control net itself is not used: the control
 /// polygon of a smooth map can be degenerate where the spline is not (u² has c1 = 0 at a clamped end).
-double min_element_scaled_jacobian(const TMesh& t);
+/// With h_refine > 0, each element is first split in 2^h_refine per direction: the figure of
+/// h_refine(…, t, h_refine) (knot insertion keeps the spline) up to rounding, without building it.
+/// Throws core::ConfigError if h_refine is outside [0, 3].
+double min_element_scaled_jacobian(const TMesh& t, int h_refine = 0);
 
 /// ParaView view: the T-mesh elements as trilinear hexes, with `scaled_jacobian`, `component`,
 /// `block` and `pillow` per cell, plus the `extra` cell fields (name, one value per element in

@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 #include <string>
@@ -130,6 +131,33 @@ TEST(HRefine, RefinesTheOptimizedSplineTwice) {
   expect_same_spline(ts, fine, 2, parent, 13);
   // Stage-file round trip of the refined T-mesh (its rows are checked on reading).
   for (const auto& t : fine) EXPECT_NO_THROW(tmesh::from_json(tmesh::to_json(t), "refined"));
+}
+
+// The stage's "before" figure: each element split in 2^h per direction on the unrefined blocks
+// gives the refined net's worst trilinear hex (the same spline at the same corners) without
+// building it; rings of 3-5 sheared cubes of mixed levels, once and twice refined.
+TEST(HRefine, SplitElementsGiveTheRefinedNetsTrilinearFigure) {
+  for (int k = 3; k <= 5; ++k)
+    for (int times = 1; times <= 2; ++times) {
+      SCOPED_TRACE("ring of " + std::to_string(k) + " cubes, h_refine " + std::to_string(times));
+      const tmesh::PolycubeMaps maps = sheared_ring(k);
+      tmesh::Params p;
+      p.level = 1;
+      std::vector<int> levels;
+      for (int c = 0; c < k; ++c) levels.push_back(1 + c % 2);
+      const auto coarse = tmesh::build(maps, p, levels);
+      const auto fine = tmesh::h_refine(maps, p, coarse, times);
+      double split = std::numeric_limits<double>::infinity(), refined = split, unsplit = split;
+      for (const auto& t : coarse) split = std::min(split, tmesh::min_element_scaled_jacobian(t, times)), unsplit = std::min(unsplit, tmesh::min_element_scaled_jacobian(t));
+      for (const auto& t : fine) refined = std::min(refined, tmesh::min_element_scaled_jacobian(t));
+      EXPECT_NEAR(split, refined, 1e-12);
+      EXPECT_NE(split, unsplit) << "the split changes nothing on this family: the test would not see a missing split";
+    }
+  tmesh::Params p;
+  p.level = 1;
+  const auto ts = tmesh::build(sheared_ring(3), p, {1, 1, 1});
+  EXPECT_THROW(tmesh::min_element_scaled_jacobian(ts.front(), 4), core::ConfigError);
+  EXPECT_THROW(tmesh::min_element_scaled_jacobian(ts.front(), -1), core::ConfigError);
 }
 
 TEST(HRefine, RefusesWhatIsNotTheRefinementOfItsPolycube) {
