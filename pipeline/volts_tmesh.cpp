@@ -245,13 +245,17 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   }
   {
     core::LogSection s("write");
-    core::Json list = core::Json::array();
-    for (const auto& t : ts) list.push_back(tmesh::to_json(t));
-    core::write_stage_file(ctx.output_file(), "volts-tmesh", 3, {{"surface", surface}, {"tmeshes", list}});
     std::vector<std::pair<std::string, std::vector<double>>> extra;
     if (!opt.element_before.empty())
       extra = {{"bezier_scaled_jacobian_before", opt.element_before}, {"bezier_scaled_jacobian_after", opt.element_after}};
-    after = tmesh::write_vtu(ctx.path("tmesh.vtu"), ts, extra);
+    // The stage file and the ParaView file share nothing: written side by side (each to a
+    // temporary name first; a failure of either is rethrown once both are done).
+    core::parallel_tasks({[&] {
+                            core::Json list = core::Json::array();
+                            for (const auto& t : ts) list.push_back(tmesh::to_json(t));
+                            core::write_stage_file(ctx.output_file(), "volts-tmesh", 3, {{"surface", surface}, {"tmeshes", list}});
+                          },
+                          [&] { after = tmesh::write_vtu(ctx.path("tmesh.vtu"), ts, extra); }});
   }
   core::Json fig = tmesh::report_figures(ts, before, after);
   fig["levels"] = {{"stop", levels.stop}, {"refinements", levels.refinements}, {"refined_blocks", levels.refined_blocks}, {"cube_levels", levels.level},
