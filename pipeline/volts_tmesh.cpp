@@ -55,8 +55,6 @@ core::Json worst_blocks(const std::vector<tmesh::TMesh>& ts, const tmesh::Optimi
   return out;
 }
 
-// tmesh.h_refine: the T-mesh is laid out and optimized h levels coarser than tmesh.level (its
-// adaptive bound max_level too) and refined to it by knot insertion afterwards.
 // The worst T-mesh element as a trilinear hex (eq. (1)-(2)), each split in 2^h per direction
 // first (the net h-refined by knot insertion); blocks in parallel.
 double min_corner_figure(const std::vector<tmesh::TMesh>& ts, int h) {
@@ -67,6 +65,8 @@ double min_corner_figure(const std::vector<tmesh::TMesh>& ts, int h) {
   return worst;
 }
 
+// tmesh.h_refine: the T-mesh is laid out and optimized h levels coarser than tmesh.level (its
+// adaptive bound max_level too) and refined to it by knot insertion afterwards.
 tmesh::Params coarser(const tmesh::Params& want, int h) {
   tmesh::Params p = want;
   p.level = want.level - h;

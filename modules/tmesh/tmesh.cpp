@@ -840,10 +840,8 @@ std::vector<std::vector<int>> global_ids(const std::vector<TMesh>& ts, int* coun
   return ids;
 }
 
-// The spline at the knot grid of t (element corners), index i + (n0+1)*(j + (n1+1)*k), and the
-// number of elements per direction.
-// The spline at the corners of t's elements, each split in `splits` per direction (n: elements
-// per direction after the split), i fastest.
+// The spline at the corners of t's elements, each split in `splits` per direction, index
+// i + (n0+1)*(j + (n1+1)*k), and in n the number of (split) elements per direction.
 std::vector<Vec3> corner_grid(const TMesh& t, std::array<int, 3>* n, int splits = 1) {
   std::array<std::vector<double>, 3> g;
   for (std::size_t a = 0; a < 3; ++a) {
