@@ -8,9 +8,12 @@
 // goes on. The table is printed twice: aligned text, then Markdown (for docs/benchmarks.md).
 // Configs are configs/default.yaml with only the input set, extract.exports [vtu] (the solver
 // exports are not part of the paper's construction time; --all-exports keeps them) and a model's
-// own config lines where it has any, quoted next to its input.
+// own config lines where it has any, quoted next to its input. With --repeat N every model runs N
+// times: the wall time is the median (one run's wall varies by ~0.1 s on this machine, as much as
+// the eight's distance to its target), and the runs' figures must agree (the pipeline is
+// deterministic; a disagreement marks the model `nondeterministic`).
 // Usage: bench_pipeline [--models a,b] [--workdir DIR] [--timeout S] [--json FILE] [--models-dir DIR]
-//                       [--volts PATH] [--all-exports] [--list]
+//                       [--volts PATH] [--all-exports] [--repeat N] [--list]
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -117,7 +120,8 @@ struct Target {
 struct Result {
   std::string model, input, status = "ok", failed_stage, error;
   Json report = Json::object();  // stages.* of report.json
-  double wall_s = 0;
+  double wall_s = 0;               // the median over the runs (--repeat)
+  std::vector<double> wall_runs_s;  // every run's
   std::vector<Target> targets;
   std::optional<bool> gmsh_ok;  // `gmsh bezier.msh -check` (--all-exports, gmsh installed)
   std::string gmsh_note;
@@ -287,6 +291,29 @@ std::optional<double> report_total(const Result& r) {
   return any ? std::optional<double>(t) : std::nullopt;
 }
 
+// The reports of two runs agree on everything but times (keys ending in "time_s" or "_s"): the
+// pipeline is deterministic, so repeated runs must give the same figures.
+bool same_figures(const Json& a, const Json& b) {
+  if (a.is_object() != b.is_object() || a.is_array() != b.is_array()) return false;
+  if (a.is_object()) {
+    if (a.size() != b.size()) return false;
+    for (auto it = a.begin(); it != a.end(); ++it) {
+      const std::string& k = it.key();
+      if (!b.contains(k)) return false;
+      if (k.size() >= 2 && k.compare(k.size() - 2, 2, "_s") == 0) continue;  // a time
+      if (!same_figures(it.value(), b[k])) return false;
+    }
+    return true;
+  }
+  if (a.is_array()) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (!same_figures(a[i], b[i])) return false;
+    return true;
+  }
+  return a == b;
+}
+
 std::string fmt_count(std::optional<double> v) {
   if (!v) return "-";
   std::string s = std::to_string(static_cast<long long>(std::llround(*v)));
@@ -428,7 +455,7 @@ Json to_json(const std::vector<Result>& results, const std::vector<const Model*>
   Json out = Json::array();
   for (std::size_t k = 0; k < results.size(); ++k) {
     const Result& r = results[k];
-    Json j = {{"model", r.model}, {"input", r.input}, {"status", r.status}, {"wall_s", r.wall_s}, {"stages", r.report}};
+    Json j = {{"model", r.model}, {"input", r.input}, {"status", r.status}, {"wall_s", r.wall_s}, {"wall_runs_s", r.wall_runs_s}, {"stages", r.report}};
     if (!r.failed_stage.empty()) j["failed_stage"] = r.failed_stage;
     if (!r.error.empty()) j["error"] = r.error;
     if (const Paper* p = models[k]->paper)
@@ -443,7 +470,7 @@ Json to_json(const std::vector<Result>& results, const std::vector<const Model*>
 
 const char* kUsage =
     "usage: bench_pipeline [--models a,b] [--workdir DIR] [--timeout S] [--json FILE] [--models-dir DIR]\n"
-    "                      [--volts PATH] [--all-exports] [--list]\n"
+    "                      [--volts PATH] [--all-exports] [--repeat N] [--list]\n"
     "Runs `volts run` on each model and prints Liu et al. 2013 Table 1's columns next to the paper's.\n"
     "  --models a,b     models to run (default: all; --list shows them)\n"
     "  --workdir DIR    run directories DIR/<model> are kept (default: a temporary directory, removed)\n"
@@ -452,7 +479,8 @@ const char* kUsage =
     "  --models-dir DIR shared models (default: $VOLTS_SHARED_MODELS, else ../shared/models next to the sources)\n"
     "  --volts PATH     the volts driver (default: the one built with this benchmark)\n"
     "  --all-exports    keep extract.exports at its default (bext, json, msh, png too; default: vtu only),\n"
-    "                   and run `gmsh bezier.msh -check` if gmsh is installed (a target column; not timed)\n";
+    "                   and run `gmsh bezier.msh -check` if gmsh is installed (a target column; not timed)\n"
+    "  --repeat N       run every model N times (default 1): wall = the median; the runs' figures must agree\n";
 
 }  // namespace
 
@@ -461,6 +489,7 @@ int main(int argc, char** argv) {
   fs::path models_dir = std::getenv("VOLTS_SHARED_MODELS") ? fs::path(std::getenv("VOLTS_SHARED_MODELS")) : fs::path(VOLTS_SHARED_MODELS);
   double timeout_s = 600;
   bool all_exports = false;
+  int repeat = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -477,6 +506,7 @@ int main(int argc, char** argv) {
     else if (a == "--models-dir") models_dir = value();
     else if (a == "--volts") volts = value();
     else if (a == "--all-exports") all_exports = true;
+    else if (a == "--repeat") repeat = std::atoi(value().c_str());
     else if (a == "--list") {
       for (const Model& m : all_models()) std::printf("%-16s %s\n", m.name.c_str(), m.generate.empty() ? m.file.c_str() : ("generated " + m.generate).c_str());
       return 0;
@@ -487,6 +517,10 @@ int main(int argc, char** argv) {
   }
   if (!(timeout_s > 0)) {
     std::fprintf(stderr, "bench_pipeline: --timeout must be > 0\n");
+    return 2;
+  }
+  if (repeat < 1 || repeat > 100) {
+    std::fprintf(stderr, "bench_pipeline: --repeat must be in [1, 100]\n");
     return 2;
   }
   std::vector<const Model*> models;
@@ -511,7 +545,21 @@ int main(int argc, char** argv) {
 
   std::vector<Result> results;
   for (const Model* m : models) {
-    results.push_back(run_model(*m, models_dir, work, volts, timeout_s, all_exports));
+    Result r = run_model(*m, models_dir, work, volts, timeout_s, all_exports);
+    r.wall_runs_s.push_back(r.wall_s);
+    for (int k = 1; k < repeat && r.status == "ok"; ++k) {
+      const Result again = run_model(*m, models_dir, work, volts, timeout_s, all_exports);
+      r.wall_runs_s.push_back(again.wall_s);
+      if (again.status != "ok") {
+        r.status = again.status, r.error = "run " + std::to_string(k + 1) + ": " + again.error;
+      } else if (!same_figures(r.report, again.report)) {
+        r.status = "nondeterministic", r.error = "run " + std::to_string(k + 1) + " gave other figures than run 1";
+      }
+    }
+    std::vector<double> walls = r.wall_runs_s;
+    std::sort(walls.begin(), walls.end());
+    r.wall_s = walls.size() % 2 ? walls[walls.size() / 2] : 0.5 * (walls[walls.size() / 2 - 1] + walls[walls.size() / 2]);
+    results.push_back(std::move(r));
     evaluate(results.back(), *m);
   }
   if (temp) fs::remove_all(work);
@@ -529,7 +577,8 @@ int main(int argc, char** argv) {
               "scaled Jacobian (corners + Gauss points, the paper's sample); worst SJ 7^3: on a uniform 7^3 grid per element, faces\n"
               "and edges included (extract.dense_points: the field between those samples); valid: certified det J > 0;\n"
               "hausdorff_rel: sampled, one-sided; stage times\n"
-              "from report.json (time_s), total = their sum, wall = the whole `volts run` (targets use wall). Inputs:\n");
+              "from report.json (time_s; with --repeat, the first run's), total = their sum, wall = the whole `volts run`\n"
+              "(with --repeat, the median over the runs; targets use wall). Inputs:\n");
   for (const Result& r : results) std::printf("  %s: %s\n", r.model.c_str(), r.input.c_str());
   if (!json_file.empty()) std::ofstream(json_file) << to_json(results, models).dump(2) << "\n";
   return 0;
