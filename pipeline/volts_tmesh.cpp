@@ -165,6 +165,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
     op.check_tolerance = params.check_tolerance;
     op.joint_sharpness = params.joint_sharpness;
     op.joint_window = params.joint_window;
+    op.joint_method = params.joint_method == "lbfgs" ? tmesh::OptimizeParams::JointMethod::lbfgs : tmesh::OptimizeParams::JointMethod::ccsaq;
     op.slide_from = params.slide_from == "start"   ? tmesh::OptimizeParams::SlideFrom::start
                     : params.slide_from == "valid" ? tmesh::OptimizeParams::SlideFrom::valid
                                                    : tmesh::OptimizeParams::SlideFrom::stall;
@@ -271,6 +272,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
                          {"folds_between_samples", opt.folds_between_samples},
                          {"bezier_min_scaled_jacobian_after_checked", opt.min_after_checked},
                          {"worst_blocks", worst}};
+  fig["optimization"]["joint_method"] = params.joint_method;
   fig["optimization"]["refined_trilinear_pass"] = refined_pass;
   fig["optimization"]["refined_repair"] = repair;
   fig["h_refine"] = params.h_refine;

@@ -235,6 +235,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("check_tolerance", c.tmesh.check_tolerance, 0.0, 1.0);
     s.get("joint_sharpness", c.tmesh.joint_sharpness, 1e-3, 1000.0);
     s.get("joint_window", c.tmesh.joint_window, 0.0, 1.0);
+    s.get("joint_method", c.tmesh.joint_method, {"ccsaq", "lbfgs"});
     s.get("slide_surface", c.tmesh.slide_surface);
     s.get("slide_from", c.tmesh.slide_from, {"stall", "start", "valid"});
     s.get("slide_sharp_curves", c.tmesh.slide_sharp_curves);
@@ -430,6 +431,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "check_tolerance" << YAML::Value << c.tmesh.check_tolerance;
   e << YAML::Key << "joint_sharpness" << YAML::Value << c.tmesh.joint_sharpness;
   e << YAML::Key << "joint_window" << YAML::Value << c.tmesh.joint_window;
+  e << YAML::Key << "joint_method" << YAML::Value << c.tmesh.joint_method;
   e << YAML::Key << "slide_surface" << YAML::Value << c.tmesh.slide_surface;
   e << YAML::Key << "slide_from" << YAML::Value << c.tmesh.slide_from;
   e << YAML::Key << "slide_sharp_curves" << YAML::Value << c.tmesh.slide_sharp_curves;

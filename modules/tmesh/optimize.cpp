@@ -981,7 +981,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       }
       return lo - std::log(Z) / beta;
     };
-    nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(x0.size()));
+    nlopt::opt opt(params.joint_method == OptimizeParams::JointMethod::lbfgs ? nlopt::LD_LBFGS : nlopt::LD_CCSAQ, static_cast<unsigned>(x0.size()));
     opt.set_lower_bounds(lower);
     opt.set_upper_bounds(upper);
     using Objective = decltype(objective);

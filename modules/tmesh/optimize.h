@@ -80,6 +80,16 @@ struct OptimizeParams {
   int joint_rounds = 30;         ///< [0, 100]; 0 = per-node sweeps only
   int joint_evaluations = 300;   ///< bound on objective and gradient evaluations per round [1, 100000]
   double joint_sharpness = 40;   ///< β, per unit of scaled Jacobian (0, 1000]
+  /// The NLopt method of the joint rounds. `ccsaq`: Svanberg's conservative convex separable
+  /// approximations with a quadratic penalty (LD_CCSAQ): each step solves a separable model that
+  /// stays within the variables' bounds and is only taken once it is conservative, so a round
+  /// does not stall on the soft minimum's kinks. `lbfgs`: limited-memory BFGS (LD_LBFGS, the
+  /// paper's BFGS). Measured (session 40, every model all certified valid with either): the
+  /// eight's one round 68 -> 38 evaluations (wall 1.8 -> 1.5 s, 0.506 -> 0.512), the rod 60.5 ->
+  /// 33.9 s (0.483 -> 0.500, 7³ 0.461 -> 0.487), cinolib_torus 0.512 -> 0.556, the washer 0.511 ->
+  /// 0.569; the rod family 250-350 0.478-0.496 in 26-45 s (lbfgs: 0.466-0.498, 56-75 s).
+  enum class JointMethod { ccsaq, lbfgs };
+  JointMethod joint_method = JointMethod::ccsaq;
   /// Elements not certified valid are sampled on a uniform grid of this many points per direction
   /// instead (a fold can lie between the Gauss points) [2, 32]
   int joint_dense_points = 9;

@@ -60,6 +60,8 @@ struct Params {
   double check_tolerance = 0.05;
   double joint_sharpness = 40;
   double joint_window = 0.1;
+  /// The joint rounds' NLopt method: "ccsaq" or "lbfgs" (OptimizeParams::joint_method).
+  std::string joint_method = "ccsaq";
   /// The joint rounds slide surface nodes along the input surface where no sharp edge is within
   /// their reach (optimize(); Liu et al. §5.2 "surface nodes on the surface"); false = fixed.
   bool slide_surface = true;
