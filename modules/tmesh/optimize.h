@@ -2,8 +2,9 @@
 // moved toward an optimal position that maximizes the worst Jacobian ... defined based on Bézier
 // basis functions ... at the Gaussian integration points and the corner points").
 //
-// Two phases. First, joint rounds (the paper's BFGS, on all nodes at once): the interior control
-// points of the elements below the target move together by NLopt's L-BFGS on a smooth soft
+// Two phases. First, joint rounds (the paper's BFGS step, on all nodes at once): the interior
+// control points of the elements below the target move together by NLopt's CCSAQ (or L-BFGS,
+// OptimizeParams::joint_method) on a smooth soft
 // minimum of the sampled scaled Jacobians of every element they support, with its analytic
 // gradient (sum factorization on the sample grids, then the transpose of the extraction). The
 // worst figure is a minimum over many elements that share nodes: a per-node search stalls on a
@@ -70,7 +71,7 @@ struct OptimizeParams {
   double min_fixed_rel = 2e-2;  ///< fraction of the elements not certified valid [0, 1]
   int patience = 2;             ///< stalled sweeps in a row before stopping [1, 100]
   /// First, joint rounds: the interior nodes of the elements below `target` move
-  /// together by L-BFGS on a soft minimum of the sampled scaled Jacobian of all their elements,
+  /// together (joint_method) on a soft minimum of the sampled scaled Jacobian of all their elements,
   /// S = m − (1/β) log Σ exp(−β (SJ − m)), β = `joint_sharpness`. A round is kept only if it
   /// raises the worst figure of those elements or fixes elements not certified valid; where an
   /// element loses its certificate or falls below the worst figure, its nodes go back to where the

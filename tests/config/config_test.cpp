@@ -127,6 +127,19 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_NE(e.find("'always' is not one of"), std::string::npos) << e;
 }
 
+// The joint rounds' method: CCSAQ in the shipped config and the library alike, "lbfgs" survives
+// the round trip, anything else is refused naming the key.
+TEST(Config, JointMethodKey) {
+  const config::Config file = config::load_config(std::string(VOLTS_SOURCE_DIR) + "/configs/default.yaml");
+  EXPECT_EQ(file.tmesh.joint_method, "ccsaq");
+  EXPECT_EQ(file.tmesh.joint_method, tmesh::Params{}.joint_method);
+  EXPECT_EQ(tmesh::OptimizeParams{}.joint_method, tmesh::OptimizeParams::JointMethod::ccsaq);
+  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {joint_method: lbfgs}\n", "t")), "emitted").tmesh.joint_method, "lbfgs");
+  const std::string e = config_error("tmesh: {joint_method: bfgs}\n");
+  EXPECT_NE(e.find("tmesh.joint_method"), std::string::npos) << e;
+  EXPECT_NE(e.find("'bfgs' is not one of"), std::string::npos) << e;
+}
+
 TEST(Config, ValuesAreRead) {
   const auto c = config::parse_config("input: {generate: torus, resolution: 32}\ntmesh: {level: 5}\nclassify: {sharp_angle_deg: 45.5}\n", "t");
   EXPECT_EQ(c.input.generate, "torus");
