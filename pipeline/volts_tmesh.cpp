@@ -170,6 +170,10 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
                     : params.slide_from == "valid" ? tmesh::OptimizeParams::SlideFrom::valid
                                                    : tmesh::OptimizeParams::SlideFrom::stall;
     op.slide_sharp_curves = params.slide_sharp_curves;
+    // Sliding may not take the boundary past epsilon_rel (issue 8's hausdorff_rel), on the grid
+    // the adaptive levels measure it on.
+    op.max_boundary_deviation = params.epsilon_rel * diagonal;
+    op.deviation_points = tmesh::deviation_points(params);
     // Optimize the figure extract reports: its Gauss points (0 = degree + 1) and the corners.
     op.gauss_points = ctx.config.extract.gauss_points > 0 ? ctx.config.extract.gauss_points : params.degree + 1;
     if (slide)
@@ -273,6 +277,8 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
                          {"bezier_min_scaled_jacobian_after_checked", opt.min_after_checked},
                          {"worst_blocks", worst}};
   fig["optimization"]["joint_method"] = params.joint_method;
+  fig["optimization"]["boundary_deviation_bound"] = op.max_boundary_deviation;
+  fig["optimization"]["deviation_put_back"] = opt.deviation_put_back;
   fig["optimization"]["refined_trilinear_pass"] = refined_pass;
   fig["optimization"]["refined_repair"] = repair;
   fig["h_refine"] = params.h_refine;

@@ -121,6 +121,14 @@ struct OptimizeParams {
   /// reach; false: every node on or next to a sharp curve stays. Off by default: measured on the
   /// rod (session 24), 0.304 -> 0.203 sliding from the start, 0.283 -> 0.284 from the stall.
   bool slide_sharp_curves = false;
+  /// With a surface to slide on: a joint round's step puts back the nodes of an element whose
+  /// boundary faces end farther from the surface than this or than before the round, whichever is
+  /// larger (sampled on `deviation_points`² points per face, i/(n−1); the distance is the
+  /// one-sided boundary → surface one of extract's hausdorff_rel). Sliding nodes stay on the
+  /// surface, but the spline's boundary between them moves: on the rod it crossed issue 8's 0.005
+  /// of the diagonal (docs/status.md "Session 41"). A length, in the model's units; 0 = no bound.
+  double max_boundary_deviation = 0;
+  int deviation_points = 8;  ///< per direction of a boundary face [2, 64]
   /// With a surface to slide on: the per-node sweeps also move surface nodes that may slide
   /// (as in the joint rounds, but not along sharp curves), each in its tangent plane within its
   /// reach, the move projected back onto the surface at its offset before it is checked. Off in
@@ -203,6 +211,9 @@ struct OptimizeResult {
   /// were positive (at a joint round's start, or made by a joint step and undone); the joint rounds
   /// sample around each from then on (at most 8 per element).
   int folds_between_samples = 0;
+  /// Elements of the kept joint steps whose sliding nodes went back because their boundary faces
+  /// would have ended past OptimizeParams::max_boundary_deviation (and farther than before).
+  int deviation_put_back = 0;
   int surface_nodes_slid = 0;  ///< surface nodes the kept joint rounds (once per round) and sliding sweeps (per move) moved along the surface
   /// Per element (the T-mesh's order: block after block, i fastest; write_vtu's): its sampled
   /// scaled Jacobian before and after optimization, so a user sees where the start was poor.

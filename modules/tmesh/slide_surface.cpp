@@ -98,6 +98,11 @@ Vec3 SlideSurface::closest(const Vec3& p, Vec3* normal) const {
   return {q.x(), q.y(), q.z()};
 }
 
+Vec3 SlideSurface::closest(const Vec3& p, const Vec3& hint) const {
+  const K::Point_3 q = impl_->triangle_tree.closest_point(K::Point_3(p[0], p[1], p[2]), K::Point_3(hint[0], hint[1], hint[2]));
+  return {q.x(), q.y(), q.z()};
+}
+
 double SlideSurface::sharp_distance(const Vec3& p) const {
   if (impl_->sharp.empty()) return std::numeric_limits<double>::infinity();
   return std::sqrt(impl_->sharp_tree.squared_distance(K::Point_3(p[0], p[1], p[2])));

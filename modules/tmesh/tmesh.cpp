@@ -447,11 +447,9 @@ std::vector<double> block_deviation(const std::vector<TMesh>& ts, const std::fun
   return dev;
 }
 
-// Points per element direction of the optimized T-mesh that give Params::deviation_samples per
-// element once it is refined h_refine times (extract's hausdorff_rel grid at its default).
-int deviation_points(const Params& params) { return (params.deviation_samples - 1) * (1 << params.h_refine) + 1; }
-
 }  // namespace
+
+int deviation_points(const Params& params) { return (params.deviation_samples - 1) * (1 << params.h_refine) + 1; }
 
 std::vector<double> boundary_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance, int points) {
   if (points < 2) throw core::ConfigError("tmesh::boundary_deviation: at least 2 points per element direction, got " + std::to_string(points));

@@ -223,6 +223,11 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const s
 std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, const std::vector<TMesh>& coarse, int times,
                             std::vector<int>* parent = nullptr);
 
+/// Points per element direction of the T-mesh laid out at `params` (h_refine levels coarser than
+/// its `level`) that give Params::deviation_samples per element once it is h-refined: extract's
+/// hausdorff_rel grid at its default (i/(n−1) on each refined face).
+int deviation_points(const Params& params);
+
 /// Per cube (TMesh::component), the largest distance `distance` gives at the boundary faces of
 /// its blocks, sampled on a uniform grid of `points` per direction on every element face, corners
 /// included (`distance` is called from several threads); 0 for a cube without boundary faces.
