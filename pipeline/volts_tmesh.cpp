@@ -171,7 +171,8 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
                                                    : tmesh::OptimizeParams::SlideFrom::stall;
     op.slide_sharp_curves = params.slide_sharp_curves;
     // Sliding may not take the boundary past epsilon_rel (issue 8's hausdorff_rel), on the grid
-    // the adaptive levels measure it on.
+    // the adaptive levels measure it on (on the h-refined net, where repair_folds runs with these
+    // parameters, a finer grid that holds extract's).
     op.max_boundary_deviation = params.epsilon_rel * diagonal;
     op.deviation_points = tmesh::deviation_points(params);
     // Optimize the figure extract reports: its Gauss points (0 = degree + 1) and the corners.

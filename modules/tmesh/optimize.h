@@ -121,9 +121,9 @@ struct OptimizeParams {
   /// reach; false: every node on or next to a sharp curve stays. Off by default: measured on the
   /// rod (session 24), 0.304 -> 0.203 sliding from the start, 0.283 -> 0.284 from the stall.
   bool slide_sharp_curves = false;
-  /// With a surface to slide on: a joint round's step puts back the nodes of an element whose
-  /// boundary faces end farther from the surface than this or than before the round, whichever is
-  /// larger (sampled on `deviation_points`² points per face, i/(n−1); the distance is the
+  /// With a surface to slide on: a joint round's step puts back the sliding nodes of an element
+  /// whose boundary faces end farther from the surface than this or than before the round,
+  /// whichever is larger (sampled on `deviation_points`² points per face, i/(n−1); the distance is the
   /// one-sided boundary → surface one of extract's hausdorff_rel). Sliding nodes stay on the
   /// surface, but the spline's boundary between them moves: on the rod it crossed issue 8's 0.005
   /// of the diagonal (docs/status.md "Session 41"). A length, in the model's units; 0 = no bound.
