@@ -1135,11 +1135,12 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
           certify_figure(h, cp, t.now[k]);
           t.now[k].trilinear = corner_hex_scaled_jacobian(h);
           if (q[e].valid && !t.now[k].valid && t.now[k].sampled > 0 && !t.made[k]) t.made[k] = t.now[k].witness;
-          const bool strays = !guard_faces[k].empty() &&
-                              faces_deviation(h, guard_faces[k], face_grids, *surface) > std::max(params.max_boundary_deviation, deviation_before[k]);
           const bool falls = t.now[k].scaled < before || t.now[k].sampled < before_sampled || (q[e].valid && !t.now[k].valid) ||
                              (q[e].valid && t.now[k].scaled < std::min(mode.valid_floor, q[e].scaled)) || trilinear_falls(params, q[e], t.now[k]) ||
                              (!q[e].valid && t.now[k].scaled < q[e].scaled);
+          // (Measured only where its nodes stay otherwise: the closest points are the cost.)
+          const bool strays = !falls && !guard_faces[k].empty() &&
+                              faces_deviation(h, guard_faces[k], face_grids, *surface) > std::max(params.max_boundary_deviation, deviation_before[k]);
           // 1: all its nodes go back; 2: its boundary strays, its sliding nodes go back (its faces
           // depend on them alone; its interior nodes may still untangle it).
           bad[i] = falls ? 1 : strays ? 2 : 0;
