@@ -47,7 +47,7 @@ struct Params {
   /// The Bézier passes also look after the corner hexes once every element is certified valid
   /// (OptimizeParams::trilinear_guard).
   bool trilinear_guard = true;
-  int joint_evaluations = 300;
+  int joint_evaluations = 100;
   /// Points per direction of the uniform grid (faces, edges, corners) the optimizer samples the
   /// scaled Jacobian at besides its Gauss points (OptimizeParams::grid_points); 2 = the corners
   /// alone (the paper's sample) [2, 8].

@@ -9,6 +9,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "bezier/vtk_bezier.h"
@@ -474,8 +475,11 @@ TEST(Pipeline, RodRunsEndToEndAtTheDefaults) {
   EXPECT_LE(o["bezier_min_scaled_jacobian_after_checked"].get<double>(), o["bezier_min_scaled_jacobian_after"].get<double>());
   EXPECT_GE(x["min_scaled_jacobian_dense"].get<double>(), 0.3);
   // epsilon_rel's deviation is extract's hausdorff grid: it bounds hausdorff_rel before
-  // optimization, and sliding kept the boundary on the surface.
-  EXPECT_LE(x["hausdorff_rel"].get<double>(), t["levels"]["boundary_deviation_rel"].get<double>() * 1.05);
+  // optimization, and the sliding rounds' deviation bound (OptimizeParams::max_boundary_deviation:
+  // an element's faces end within max(epsilon_rel, where they started)) keeps it there. 1 %: the
+  // refined net's trilinear pass moves interior nodes after the bound was checked.
+  const double eps = t["levels"]["epsilon_rel"].get<double>();
+  EXPECT_LE(x["hausdorff_rel"].get<double>(), std::max(eps, t["levels"]["boundary_deviation_rel"].get<double>()) * 1.01);
 }
 
 TEST(Pipeline, EightRefinesTheCubesFarFromItsSurfaceWithTJunctions) {

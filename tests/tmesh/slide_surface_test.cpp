@@ -342,6 +342,9 @@ TEST(SlideSurface, TheDeviationBoundHoldsTheSplinesBoundaryOnACurvedSurface) {
   op.max_nodes_per_sweep = 0;  // the joint rounds alone
   op.trilinear_sweeps = 0;
   op.deviation_points = points;
+  // As measured (session 41): at the default since session 42 (100) the free rounds end at 2.3
+  // times the start, short of the 3x bound.
+  op.joint_evaluations = 300;
   const std::vector<tmesh::TMesh> start = tmesh::testing::unit_cube_blocks(ball, 1);
   const double d0 = deviation(start);
   std::vector<tmesh::TMesh> free = start;
