@@ -611,9 +611,8 @@ std::size_t width(const SlideFrame& f) { return f.dims == 0 ? 3u : static_cast<s
 
 // y (a point of f's tangent plane or curve tangent) back onto the surface (the sharp curve) at
 // the node's offset from it. The search starts from the frame's own surface point, within the
-// node's reach of the answer: the same closest point, found faster (every evaluation projects
-// every sliding node); up to rounding — the rod's run differs in the last bits, so it takes
-// another path.
+// node's reach of the answer: the same closest point up to rounding, found faster (every
+// evaluation projects every sliding node).
 Eigen::Vector3d onto_surface(const SlideFrame& f, const SlideSurface& surface, const Eigen::Vector3d& y) {
   const Eigen::Vector3d on = y - f.offset, at = f.origin - f.offset;
   const Vec3 c = f.dims == 2 ? surface.closest({on.x(), on.y(), on.z()}, {at.x(), at.y(), at.z()}) : surface.closest_sharp({on.x(), on.y(), on.z()});
