@@ -170,6 +170,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
                     : params.slide_from == "valid" ? tmesh::OptimizeParams::SlideFrom::valid
                                                    : tmesh::OptimizeParams::SlideFrom::stall;
     op.slide_sharp_curves = params.slide_sharp_curves;
+    op.fold_retry = params.fold_retry;
     // Sliding may not take the boundary past epsilon_rel (issue 8's hausdorff_rel), on the grid
     // the adaptive levels measure it on (on the h-refined net, where repair_folds runs with these
     // parameters, a finer grid that holds extract's).
@@ -282,6 +283,10 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   fig["optimization"]["deviation_put_back"] = opt.deviation_put_back;
   fig["optimization"]["refined_trilinear_pass"] = refined_pass;
   fig["optimization"]["refined_repair"] = repair;
+  fig["optimization"]["retry"] = nullptr;
+  if (opt.retry.ran)
+    fig["optimization"]["retry"] = {{"slide_from", "start"}, {"kept", opt.retry.kept}, {"not_certified_valid_after", opt.retry.invalid_after},
+                                    {"bezier_min_scaled_jacobian_after", opt.retry.min_after}, {"time_s", opt.retry.seconds}};
   fig["h_refine"] = params.h_refine;
   fig["continuity"] = continuity;
   fig["level_optimized"] = params.level;

@@ -239,6 +239,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("slide_surface", c.tmesh.slide_surface);
     s.get("slide_from", c.tmesh.slide_from, {"stall", "start", "valid"});
     s.get("slide_sharp_curves", c.tmesh.slide_sharp_curves);
+    s.get("fold_retry", c.tmesh.fold_retry);
     s.get("rim_pillow_lenses", c.tmesh.rim_pillow_lenses);
     s.get("pillow_thickness", c.tmesh.pillow_thickness, {"physical", "parametric"});
     s.get("epsilon_rel", c.tmesh.epsilon_rel, 0.0, 1.0);
@@ -435,6 +436,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "slide_surface" << YAML::Value << c.tmesh.slide_surface;
   e << YAML::Key << "slide_from" << YAML::Value << c.tmesh.slide_from;
   e << YAML::Key << "slide_sharp_curves" << YAML::Value << c.tmesh.slide_sharp_curves;
+  e << YAML::Key << "fold_retry" << YAML::Value << c.tmesh.fold_retry;
   e << YAML::Key << "rim_pillow_lenses" << YAML::Value << c.tmesh.rim_pillow_lenses;
   e << YAML::Key << "pillow_thickness" << YAML::Value << c.tmesh.pillow_thickness;
   e << YAML::Key << "epsilon_rel" << YAML::Value << c.tmesh.epsilon_rel;

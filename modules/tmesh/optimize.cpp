@@ -1568,8 +1568,10 @@ void repair_phase(State& st, const OptimizeParams& params, const SlideSurface* s
 
 }  // namespace
 
-OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
-  check(params);
+namespace {
+
+// One run of the optimization (optimize() retries it, OptimizeParams::fold_retry).
+OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
   OptimizeResult r;
   State st(blocks, params, r);
   Spline& s = st.s;
@@ -1693,6 +1695,48 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
     trilinear_phase(s, q, samples, pool, params, r);
   }
   st.finish(r);
+  return r;
+}
+
+}  // namespace
+
+OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
+  check(params);
+  auto points_of = [&blocks] {
+    std::vector<std::vector<std::array<double, 3>>> p;
+    for (const TMesh& t : blocks) p.push_back(t.control_points);
+    return p;
+  };
+  auto put = [&blocks](const std::vector<std::vector<std::array<double, 3>>>& p) {
+    for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b].control_points = p[b];
+  };
+  const bool may_retry = surface && params.fold_retry && params.sweeps > 0 && params.slide_from != OptimizeParams::SlideFrom::start;
+  std::vector<std::vector<std::array<double, 3>>> start;
+  if (may_retry) start = points_of();
+  OptimizeResult first = optimize_once(blocks, params, surface);
+  if (!may_retry || first.invalid_after == 0) return first;
+  core::log_warning(std::to_string(first.invalid_after) +
+                    " elements are left not certified valid: the optimization runs again from the start with surface nodes sliding from "
+                    "the first round (tmesh.slide_from: start; tmesh.fold_retry)");
+  const std::vector<std::vector<std::array<double, 3>>> first_end = points_of();
+  put(start);
+  OptimizeParams again = params;
+  again.slide_from = OptimizeParams::SlideFrom::start;
+  core::Stopwatch watch;
+  OptimizeResult second;
+  {
+    core::LogSection phase("optimization again, sliding from the start");
+    second = optimize_once(blocks, again, surface);
+  }
+  const bool better = second.invalid_after < first.invalid_after ||
+                      (second.invalid_after == first.invalid_after && second.min_after_checked > first.min_after_checked);
+  OptimizeResult::Retry retry{true, better, second.invalid_after, second.min_after, watch.seconds()};
+  core::log("the second run ends with " + std::to_string(second.invalid_after) + " elements not certified valid, worst " +
+            std::to_string(second.min_after) + " (the first: " + std::to_string(first.invalid_after) + ", " + std::to_string(first.min_after) +
+            "): the " + (better ? "second" : "first") + " run's end is kept");
+  if (!better) put(first_end);
+  OptimizeResult& r = better ? second : first;
+  r.retry = retry;
   return r;
 }
 

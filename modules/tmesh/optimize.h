@@ -120,6 +120,13 @@ struct OptimizeParams {
   ///   0.0626 -> 0.0641 in two rounds of ~7 s) are what the first sliding round does at once.
   enum class SlideFrom { stall, start, valid };
   SlideFrom slide_from = SlideFrom::valid;
+  /// With a surface to slide on and slide_from not `start`: if elements are left not certified
+  /// valid, the whole optimization runs once more from the start with `start` (a different path:
+  /// the sliding rounds untangle with the surface nodes free), and the better end is kept (fewer
+  /// elements not certified valid, then the higher worst figure). Costs a second run only where
+  /// the first left folds. Measured: the rod at joint_evaluations 200 left one fold with `valid`,
+  /// none with `start` (docs/status.md "Session 43").
+  bool fold_retry = true;
   /// With a surface to slide on: surface nodes on a sharp curve slide along it (one coordinate,
   /// projected back onto the curve at their offset from it) where no sharp corner is within their
   /// reach; false: every node on or next to a sharp curve stays. Off by default: measured on the
@@ -222,6 +229,14 @@ struct OptimizeResult {
   /// Per element (the T-mesh's order: block after block, i fastest; write_vtu's): its sampled
   /// scaled Jacobian before and after optimization, so a user sees where the start was poor.
   std::vector<double> element_before, element_after;
+  /// OptimizeParams::fold_retry: whether the second run (slide_from `start`) ran, its figures, and
+  /// whether its end was kept (else the first run's is).
+  struct Retry {
+    bool ran = false, kept = false;
+    int invalid_after = 0;
+    double min_after = 0;
+    double seconds = 0;
+  } retry;
 };
 
 /// Moves interior control points of `blocks` (in place, shared ids together) to raise the worst

@@ -68,6 +68,9 @@ struct Params {
   /// When they start sliding: "stall" (once the rounds with fixed surface nodes stop), "start" or
   /// "valid" (once every element is certified valid) (OptimizeParams::slide_from).
   std::string slide_from = "valid";
+  /// Elements left not certified valid: optimize again from the start with slide_from "start"
+  /// and keep the better end (OptimizeParams::fold_retry).
+  bool fold_retry = true;
   /// Continuity across the faces between blocks: "c0" (every block face a zero-parametric-length
   /// layer) or "c2" (raise_continuity(), continuity.h: C2 across the faces between blocks of one
   /// level away from their rims — C0 stays within two control points of every block edge, the

@@ -159,7 +159,7 @@ TEST(Config, EmittedYamlParsesBackToTheSameConfig) {
 
 TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("test.yaml: unknown key 'tmesh.levle'"), std::string::npos);
-  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: check_points, check_tolerance, continuity, degree, deviation_samples, epsilon_rel, grid_points, h_refine, joint_evaluations, joint_method, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
+  EXPECT_NE(config_error("tmesh: {levle: 3}\n").find("known here: check_points, check_tolerance, continuity, degree, deviation_samples, epsilon_rel, fold_retry, grid_points, h_refine, joint_evaluations, joint_method, joint_rounds, joint_sharpness, joint_window, level"), std::string::npos);
   EXPECT_NE(config_error("clasify: {}\n").find("unknown key 'clasify'"), std::string::npos);
   EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
 }

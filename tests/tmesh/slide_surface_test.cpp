@@ -278,6 +278,56 @@ TEST(SlideSurface, SlidingFromValidIsFromTheStartOnAValidStart) {
   EXPECT_GT(folded_starts, 0);
 }
 
+// OptimizeParams::fold_retry: where sliding from `valid` leaves folds, the optimization runs again
+// from the start sliding from the first round and keeps that end if it is better; that second
+// run is a `start` run, bit for bit. Where the first run ends all valid, nothing runs again.
+TEST(SlideSurface, FoldsLeftRunTheOptimizationAgainSlidingFromTheStart) {
+  const tmesh::SlideSurface cube = unit_cube();
+  // Measured (joint rounds alone, target out of reach): 0.45 unpillowed, `valid` leaves 12 folds
+  // (-0.0125) and `start` 38, so the first end stays; 0.4 pillowed, both 24 folds and `start` higher
+  // (-0.8898 against -0.8902), so the second is kept; 0.1 ends all valid, no second run.
+  int ran = 0, kept = 0;
+  for (const auto& [alpha, pillow] : std::vector<std::pair<double, int>>{{0.45, 0}, {0.4, 1}, {0.1, 0}}) {
+    tmesh::OptimizeParams op;
+    op.gauss_points = 2;
+    op.grid_points = 2;
+    op.target = 0.99;
+    op.sweeps = 1;
+    op.max_nodes_per_sweep = 0;  // the joint rounds alone
+    op.trilinear_sweeps = 0;
+    std::vector<tmesh::TMesh> once = sheared_blocks(pillow, alpha), retried = once, from_start = once;
+    op.slide_from = tmesh::OptimizeParams::SlideFrom::valid;
+    op.fold_retry = false;
+    const tmesh::OptimizeResult r1 = tmesh::optimize(once, op, &cube);
+    op.fold_retry = true;
+    const tmesh::OptimizeResult r2 = tmesh::optimize(retried, op, &cube);
+    op.slide_from = tmesh::OptimizeParams::SlideFrom::start;
+    const tmesh::OptimizeResult rs = tmesh::optimize(from_start, op, &cube);
+    std::printf("alpha %.2f pillow %d: valid once %d folds, %.4f; retried %d folds, %.4f (ran %d, kept %d); start %d folds, %.4f\n", alpha, pillow,
+                r1.invalid_after, r1.min_after, r2.invalid_after, r2.min_after, r2.retry.ran ? 1 : 0, r2.retry.kept ? 1 : 0, rs.invalid_after, rs.min_after);
+    EXPECT_FALSE(r1.retry.ran);
+    EXPECT_FALSE(rs.retry.ran);  // nothing else to try
+    EXPECT_EQ(r2.retry.ran, r1.invalid_after > 0);
+    if (!r2.retry.ran) {
+      for (std::size_t b = 0; b < once.size(); ++b) EXPECT_EQ(once[b].control_points, retried[b].control_points);
+      continue;
+    }
+    // The second run is the `start` run.
+    EXPECT_EQ(r2.retry.invalid_after, rs.invalid_after);
+    EXPECT_EQ(r2.retry.min_after, rs.min_after);
+    // The better end is kept, with its figures.
+    const bool second = rs.invalid_after < r1.invalid_after || (rs.invalid_after == r1.invalid_after && rs.min_after_checked > r1.min_after_checked);
+    EXPECT_EQ(r2.retry.kept, second);
+    ++ran, kept += second ? 1 : 0;
+    const std::vector<tmesh::TMesh>& kept = second ? from_start : once;
+    for (std::size_t b = 0; b < once.size(); ++b) EXPECT_EQ(retried[b].control_points, kept[b].control_points);
+    EXPECT_EQ(r2.invalid_after, std::min(r1.invalid_after, rs.invalid_after));
+    EXPECT_EQ(r2.min_before, r1.min_before);
+  }
+  EXPECT_EQ(ran, 2);  // both ends of the choice are exercised
+  EXPECT_EQ(kept, 1);
+}
+
 namespace {
 
 // The unit sphere as a latitude-longitude mesh (poles as single vertices), outward triangles.
