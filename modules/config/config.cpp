@@ -355,6 +355,23 @@ void check_nesting(const std::string& text, const std::string& source) {
   }
 }
 
+// A key given twice in one map: yaml-cpp keeps both and lookups see the first, so the second
+// (say, a second `tmesh:` section) would be ignored without a word.
+void check_duplicate_keys(const YAML::Node& node, const std::string& source) {
+  if (node.IsSequence()) {
+    for (const YAML::Node& x : node) check_duplicate_keys(x, source);
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::set<std::string> seen;
+  for (const auto& kv : node) {
+    if (kv.first.IsScalar() && !seen.insert(kv.first.Scalar()).second)
+      throw core::ConfigError(source + ": line " + std::to_string(kv.first.Mark().line + 1) + ": key '" + kv.first.Scalar() +
+                              "' appears twice in the same map (merge the two)");
+    check_duplicate_keys(kv.second, source);
+  }
+}
+
 }  // namespace
 
 Config parse_config(const std::string& text, const std::string& source) {
@@ -366,6 +383,7 @@ Config parse_config(const std::string& text, const std::string& source) {
     throw core::ConfigError(source + ": not valid YAML (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
   }
   try {
+    check_duplicate_keys(root, source);
     return bind_config(root, source);
   } catch (const YAML::Exception& e) {
     // What the binding did not foresee, e.g. a key that is itself a map ("? {a: 1}: 2"; fuzz_config).

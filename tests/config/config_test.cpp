@@ -164,6 +164,19 @@ TEST(Config, UnknownKeysAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("split: {foo: 1}\n").find("unknown key 'split.foo'"), std::string::npos);
 }
 
+// yaml-cpp keeps a key given twice and lookups see the first: a second `tmesh:` section would be
+// dropped without a word.
+TEST(Config, KeysGivenTwiceInOneMapAreErrorsWithTheirLine) {
+  const std::string top = config_error("input: {generate: torus}\ntmesh: {level: 2}\ntmesh: {level: 5}\n");
+  EXPECT_NE(top.find("test.yaml: line 3: key 'tmesh' appears twice"), std::string::npos) << top;
+  const std::string nested = config_error("tmesh:\n  level: 2\n  degree: 3\n  level: 4\n");
+  EXPECT_NE(nested.find("line 4: key 'level' appears twice"), std::string::npos) << nested;
+  const std::string flow = config_error("split: {hole: torus, hole: cube}\n");
+  EXPECT_NE(flow.find("key 'hole' appears twice"), std::string::npos) << flow;
+  // The same key in different maps is fine.
+  EXPECT_EQ(config::parse_config("tmesh: {level: 2}\npolycube: {smooth_sweeps: 3}\ntet2hex: {degree: 2}\n", "t").tmesh.level, 2);
+}
+
 TEST(Config, WrongTypesAndRangesAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {continuity: c1}\n").find("tmesh.continuity"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {continuity: c2, degree: 2}\n").find("tmesh.continuity: c2 is for cubic splines"), std::string::npos);
