@@ -57,7 +57,7 @@ struct Params {
   /// sampled on it from then on (OptimizeParams::check_points / check_tolerance) [0 or 2..32] /
   /// [0, 1] scaled Jacobian; 0 = no check.
   int check_points = 13;
-  double check_tolerance = 0.05;
+  double check_tolerance = 0.01;
   double joint_sharpness = 40;
   double joint_window = 0.1;
   /// The joint rounds' NLopt method: "ccsaq" or "lbfgs" (OptimizeParams::joint_method).
