@@ -44,6 +44,15 @@ std::vector<tmesh::TMesh> sheared_blocks(int pillow, double alpha) {
   return tmesh::testing::unit_cube_blocks([alpha](const Vec3& abc) { return sheared(abc, alpha); }, pillow);
 }
 
+// The joint rounds alone on the paper's sample (corners + Gauss points), toward a target out of
+// reach: every round runs to its own stopping rule.
+tmesh::OptimizeParams joint_rounds_alone() {
+  tmesh::OptimizeParams op;
+  op.gauss_points = 2, op.grid_points = 2, op.target = 0.99;
+  op.sweeps = 1, op.max_nodes_per_sweep = 0, op.trilinear_sweeps = 0;  // no per-node moves, no trilinear pass
+  return op;
+}
+
 // Which faces of the cube control point i of block t lies on (bit 2a + s), from the block's flags.
 int faces_of(const tmesh::TMesh& t, std::size_t i) {
   const int n = static_cast<int>(i);
@@ -125,15 +134,9 @@ TEST(SlideSurface, JointRoundsSlideSurfaceNodesInTheirFacesAndKeepSharpOnes) {
     for (int pillow = 0; pillow <= 1; ++pillow)
       for (const bool from_start : {false, true})
         for (const bool curves : {false, true}) {
-      tmesh::OptimizeParams op;
+      tmesh::OptimizeParams op = joint_rounds_alone();  // the figures below were measured on it
       op.slide_from = from_start ? tmesh::OptimizeParams::SlideFrom::start : tmesh::OptimizeParams::SlideFrom::stall;
       op.slide_sharp_curves = curves;
-      op.gauss_points = 2;
-      op.grid_points = 2;  // the figures below were measured on the paper's sample (corners + Gauss)
-      op.target = 0.99;  // out of reach: every round runs to its own stopping rule
-      op.sweeps = 1;
-      op.max_nodes_per_sweep = 0;  // the joint rounds alone
-      op.trilinear_sweeps = 0;
       std::vector<tmesh::TMesh> slid = sheared_blocks(pillow, alpha), fixed = slid;
       const std::vector<tmesh::TMesh> start = slid;
       const tmesh::OptimizeResult rs = tmesh::optimize(slid, op, &cube);
@@ -251,13 +254,7 @@ TEST(SlideSurface, SlidingFromValidIsFromTheStartOnAValidStart) {
   // (alpha, pillow): two valid starts and a folded one (the folded pillowed start at 0.35 takes
   // 20 s; there `valid` ends at -0.02 as `stall` does, `start` at 0.54).
   for (const auto& [alpha, pillow] : std::vector<std::pair<double, int>>{{0.1, 0}, {0.1, 1}, {0.35, 0}}) {
-      tmesh::OptimizeParams op;
-      op.gauss_points = 2;
-      op.grid_points = 2;
-      op.target = 0.99;
-      op.sweeps = 1;
-      op.max_nodes_per_sweep = 0;  // the joint rounds alone
-      op.trilinear_sweeps = 0;
+      tmesh::OptimizeParams op = joint_rounds_alone();
       std::vector<tmesh::TMesh> from_valid = sheared_blocks(pillow, alpha), from_start = from_valid;
       op.slide_from = tmesh::OptimizeParams::SlideFrom::valid;
       const tmesh::OptimizeResult rv = tmesh::optimize(from_valid, op, &cube);
@@ -288,13 +285,7 @@ TEST(SlideSurface, FoldsLeftRunTheOptimizationAgainSlidingFromTheStart) {
   // (-0.8898 against -0.8902), so the second is kept; 0.1 ends all valid, no second run.
   int ran = 0, kept = 0;
   for (const auto& [alpha, pillow] : std::vector<std::pair<double, int>>{{0.45, 0}, {0.4, 1}, {0.1, 0}}) {
-    tmesh::OptimizeParams op;
-    op.gauss_points = 2;
-    op.grid_points = 2;
-    op.target = 0.99;
-    op.sweeps = 1;
-    op.max_nodes_per_sweep = 0;  // the joint rounds alone
-    op.trilinear_sweeps = 0;
+    tmesh::OptimizeParams op = joint_rounds_alone();
     std::vector<tmesh::TMesh> once = sheared_blocks(pillow, alpha), retried = once, from_start = once;
     op.slide_from = tmesh::OptimizeParams::SlideFrom::valid;
     op.fold_retry = false;
