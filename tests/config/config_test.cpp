@@ -116,8 +116,12 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {h_refine: 2}\n", "t")), "emitted").tmesh.h_refine, 2);
   EXPECT_NE(config_error("tmesh: {h_refine: 4}\n").find("tmesh.h_refine"), std::string::npos);
   EXPECT_EQ(file.tmesh.rim_pillow_lenses, tmesh::Params{}.rim_pillow_lenses);
-  const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start, slide_sharp_curves: true, rim_pillow_lenses: false}\n", "t");
+  EXPECT_TRUE(file.tmesh.fold_retry);
+  EXPECT_EQ(file.tmesh.fold_retry, tmesh::OptimizeParams{}.fold_retry);
+  const auto c = config::parse_config("tmesh: {slide_surface: false, slide_from: start, slide_sharp_curves: true, rim_pillow_lenses: false, fold_retry: false}\n", "t");
   const auto d = config::parse_config(config::to_yaml(c), "emitted");
+  EXPECT_FALSE(d.tmesh.fold_retry);
+  EXPECT_NE(config_error("tmesh: {fold_retry: twice}\n").find("tmesh.fold_retry: must be true or false"), std::string::npos);
   EXPECT_FALSE(d.tmesh.rim_pillow_lenses);
   EXPECT_FALSE(d.tmesh.slide_surface);
   EXPECT_TRUE(d.tmesh.slide_sharp_curves);
