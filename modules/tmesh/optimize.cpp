@@ -1570,6 +1570,17 @@ void repair_phase(State& st, const OptimizeParams& params, const SlideSurface* s
 
 namespace {
 
+// Every block's control points, to put back later (a kept cycle end, a retry's start).
+using NetPoints = std::vector<std::vector<std::array<double, 3>>>;
+NetPoints net_points(const std::vector<TMesh>& blocks) {
+  NetPoints p;
+  for (const TMesh& t : blocks) p.push_back(t.control_points);
+  return p;
+}
+void set_net_points(std::vector<TMesh>& blocks, const NetPoints& p) {
+  for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b].control_points = p[b];
+}
+
 // One run of the optimization (optimize() retries it, OptimizeParams::fold_retry).
 OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
   OptimizeResult r;
@@ -1587,17 +1598,12 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
   // at its end, and a last cycle may open deeper ones than it raised (the pillowed twist 0.8:
   // 0.51 on the 9³ check grid after cycle 1, 0.26 after cycle 3).
   struct Kept {
-    std::vector<std::vector<std::array<double, 3>>> points;
+    NetPoints points;
     double worst = -std::numeric_limits<double>::infinity();
     int invalid = std::numeric_limits<int>::max();
     int cycle = 0;
     bool better_than(double w, int inv) const { return invalid < inv || (invalid == inv && worst > w); }
   } kept;
-  auto points_of = [&blocks] {
-    std::vector<std::vector<std::array<double, 3>>> p;
-    for (const TMesh& t : blocks) p.push_back(t.control_points);
-    return p;
-  };
   // Cycles: joint rounds, then per-node sweeps, again from where they stopped (OptimizeParams::cycles).
   for (int cycle = 0; cycle < params.cycles; ++cycle) {
     double cycle_start = 0;
@@ -1646,7 +1652,7 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
       double w = 0;
       int inv = 0;
       summary(&w, &inv);
-      if (inv < kept.invalid || (inv == kept.invalid && w > kept.worst)) kept = {points_of(), w, inv, cycle + 1};
+      if (inv < kept.invalid || (inv == kept.invalid && w > kept.worst)) kept = {net_points(blocks), w, inv, cycle + 1};
     }
     if (dips > 0) {
       if (cycle + 1 == params.cycles) {
@@ -1668,8 +1674,8 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
     if (kept.better_than(w, inv)) {
       // Its figures again, on the grids as they are now: an element put on the check grid since
       // did not dip there by more than check_tolerance, so the kept end may come out a little lower.
-      std::vector<std::vector<std::array<double, 3>>> last = points_of();
-      for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b].control_points = kept.points[b];
+      const NetPoints last = net_points(blocks);
+      set_net_points(blocks, kept.points);
       st.refresh(params);
       double kw = 0;
       int kinv = 0;
@@ -1679,7 +1685,7 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
         core::log("the nodes of cycle " + std::to_string(kept.cycle) + "'s end are kept: worst scaled Jacobian on every element's own sample " +
                   std::to_string(kw) + ", the last cycle's end " + std::to_string(w) + " (dips it opened between the samples)");
       } else {
-        for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b].control_points = last[b];
+        set_net_points(blocks, last);
         st.refresh(params);
       }
     }
@@ -1702,24 +1708,16 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
 
 OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
   check(params);
-  auto points_of = [&blocks] {
-    std::vector<std::vector<std::array<double, 3>>> p;
-    for (const TMesh& t : blocks) p.push_back(t.control_points);
-    return p;
-  };
-  auto put = [&blocks](const std::vector<std::vector<std::array<double, 3>>>& p) {
-    for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b].control_points = p[b];
-  };
   const bool may_retry = surface && params.fold_retry && params.sweeps > 0 && params.slide_from != OptimizeParams::SlideFrom::start;
-  std::vector<std::vector<std::array<double, 3>>> start;
-  if (may_retry) start = points_of();
+  NetPoints start;
+  if (may_retry) start = net_points(blocks);
   OptimizeResult first = optimize_once(blocks, params, surface);
   if (!may_retry || first.invalid_after == 0) return first;
   core::log_warning(std::to_string(first.invalid_after) +
                     " elements are left not certified valid: the optimization runs again from the start with surface nodes sliding from "
                     "the first round (tmesh.slide_from: start; tmesh.fold_retry)");
-  const std::vector<std::vector<std::array<double, 3>>> first_end = points_of();
-  put(start);
+  const NetPoints first_end = net_points(blocks);
+  set_net_points(blocks, start);
   OptimizeParams again = params;
   again.slide_from = OptimizeParams::SlideFrom::start;
   core::Stopwatch watch;
@@ -1734,7 +1732,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   core::log("the second run ends with " + std::to_string(second.invalid_after) + " elements not certified valid, worst " +
             std::to_string(second.min_after) + " (the first: " + std::to_string(first.invalid_after) + ", " + std::to_string(first.min_after) +
             "): the " + (better ? "second" : "first") + " run's end is kept");
-  if (!better) put(first_end);
+  if (!better) set_net_points(blocks, first_end);
   OptimizeResult& r = better ? second : first;
   r.retry = retry;
   return r;
