@@ -473,7 +473,13 @@ TEST(Pipeline, RodRunsEndToEndAtTheDefaults) {
   // folds in session 35): the joint rounds sampled around them, and every element ends valid.
   EXPECT_GT(o["folds_between_samples"].get<int>(), 0);
   EXPECT_LE(o["bezier_min_scaled_jacobian_after_checked"].get<double>(), o["bezier_min_scaled_jacobian_after"].get<double>());
-  EXPECT_GE(x["min_scaled_jacobian_dense"].get<double>(), 0.3);
+  // Elements dipping more than tmesh.check_tolerance (0.01) below their samples go on the 13^3
+  // check grid, which holds extract's 7^3 grid at h_refine 1: the field between the samples ends
+  // near the sampled worst (0.499; 0.474 at the tolerance of 0.05 before session 43).
+  EXPECT_GE(x["min_scaled_jacobian_dense"].get<double>(), 0.48);
+  // All valid in the first optimization: no second run (tmesh.fold_retry).
+  ASSERT_TRUE(o.contains("retry"));
+  EXPECT_TRUE(o["retry"].is_null());
   // epsilon_rel's deviation is extract's hausdorff grid: it bounds hausdorff_rel before
   // optimization, and the sliding rounds' deviation bound (OptimizeParams::max_boundary_deviation:
   // an element's faces end within max(epsilon_rel, where they started)) keeps it there (1 %: a
