@@ -57,9 +57,11 @@ core::Json worst_blocks(const std::vector<tmesh::TMesh>& ts, const tmesh::Optimi
 
 // The worst T-mesh element as a trilinear hex (eq. (1)-(2)), each split in 2^h per direction
 // first (the net h-refined by knot insertion); blocks in parallel.
-double min_corner_figure(const std::vector<tmesh::TMesh>& ts, int h) {
+// The worst T-mesh element as a trilinear hex, each block's element spans split as `splits` says
+// (tmesh::refinement_splits; none: as they are).
+double min_corner_figure(const std::vector<tmesh::TMesh>& ts, const std::vector<tmesh::SpanSplits>* splits = nullptr) {
   std::vector<double> per(ts.size());
-  core::parallel_for(ts.size(), [&](std::size_t b) { per[b] = tmesh::min_element_scaled_jacobian(ts[b], h); }, 1);
+  core::parallel_for(ts.size(), [&](std::size_t b) { per[b] = splits ? tmesh::min_element_scaled_jacobian(ts[b], (*splits)[b]) : tmesh::min_element_scaled_jacobian(ts[b]); }, 1);
   double worst = std::numeric_limits<double>::infinity();
   for (const double x : per) worst = std::min(worst, x);
   return worst;
@@ -146,7 +148,9 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   // The control net's figure before optimization, on the mesh the figure after is taken on: the
   // unoptimized T-mesh refined alike (knot insertion moves the net, not the spline).
   // Its elements are split alike on the unrefined blocks: no h-refined copy is built.
-  const double before = min_corner_figure(ts, params.h_refine);
+  const std::vector<tmesh::SpanSplits> splits = tmesh::refinement_splits(maps, params, ts, params.h_refine);
+  const double before = min_corner_figure(ts, &splits);
+  const bool refine = params.h_refine > 0 || params.pillow_splits > 1;
   double after = before;
   tmesh::OptimizeResult opt;
   opt.stop_reason = "disabled";
@@ -191,7 +195,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
     for (const auto& t : ts) n += t.elements();
     return n;
   }();
-  if (params.h_refine > 0) {
+  if (refine) {
     core::LogSection s("h-refinement by knot insertion");
     std::vector<int> parent;
     ts = tmesh::h_refine(maps, params, ts, params.h_refine, &parent);
@@ -201,8 +205,9 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
       for (const int e : parent) fine.push_back((*field)[static_cast<std::size_t>(e)]);
       field->swap(fine);
     }
-    core::log("every element split in " + std::to_string(1 << (3 * params.h_refine)) + ": " + std::to_string(optimized_elements) + " -> " +
-              std::to_string(parent.size()) + " elements");
+    core::log("every element split in " + std::to_string(1 << (3 * params.h_refine)) +
+              (params.pillow_splits > 1 ? ", the pillow slabs' also in " + std::to_string(params.pillow_splits) + " across the surface" : std::string()) + ": " +
+              std::to_string(optimized_elements) + " -> " + std::to_string(parent.size()) + " elements");
     if (params.continuity == "c2") {
       tmesh::ContinuityParams keep;
       keep.project = false;  // the same spline: rows only where it is C2 already
@@ -215,7 +220,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   // has 8 (or 64) of its own, with their own control points, where the coarse net had too few (the
   // rod at joint_evaluations 325: 3 optimized elements folded in the connector's pillow).
   core::Json repair = nullptr;
-  if (params.h_refine > 0 && params.optimize_sweeps > 0 && opt.invalid_after > 0) {
+  if (refine && params.optimize_sweeps > 0 && opt.invalid_after > 0) {
     core::LogSection s("repair of the folds on the refined net");
     core::log(std::to_string(opt.invalid_after) + " optimized elements not certified valid: their folds are repaired on the refined net");
     const tmesh::OptimizeResult rr = tmesh::repair_folds(ts, op, slide);
@@ -230,8 +235,8 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   // on it (Bezier elements kept certified valid and above the worst; the rod at the defaults:
   // coarse +0.144, refined -0.10).
   core::Json refined_pass = nullptr;
-  if (params.h_refine > 0 && params.optimize_sweeps > 0 && params.trilinear_sweeps > 0) {
-    const double fold = min_corner_figure(ts, 0);
+  if (refine && params.optimize_sweeps > 0 && params.trilinear_sweeps > 0) {
+    const double fold = min_corner_figure(ts);
     if (fold < 0) {
       core::LogSection s("trilinear pass on the refined net");
       core::log("the refined net's worst corner hex is " + std::to_string(fold) + " (the optimized net's: " + std::to_string(opt.trilinear_after) + ")");
@@ -288,6 +293,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
     fig["optimization"]["retry"] = {{"slide_from", "start"}, {"kept", opt.retry.kept}, {"not_certified_valid_after", opt.retry.invalid_after},
                                     {"bezier_min_scaled_jacobian_after", opt.retry.min_after}, {"time_s", opt.retry.seconds}};
   fig["h_refine"] = params.h_refine;
+  fig["pillow_splits"] = params.pillow_splits;
   fig["continuity"] = continuity;
   fig["level_optimized"] = params.level;
   fig["elements_optimized"] = optimized_elements;

@@ -246,6 +246,9 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("deviation_samples", c.tmesh.deviation_samples, 2, 64);
     s.get("max_level", c.tmesh.max_level, 1, 7);
     s.get("h_refine", c.tmesh.h_refine, 0, 3);
+    s.get("pillow_splits", c.tmesh.pillow_splits, 1, 8);
+    if (c.tmesh.pillow_splits > 1 && c.tmesh.pillow_layers == 0)
+      throw core::ConfigError(source + ": tmesh.pillow_splits " + std::to_string(c.tmesh.pillow_splits) + " needs a pillow to split (tmesh.pillow_layers is 0)");
     s.get("continuity", c.tmesh.continuity, {"c0", "c2"});
     if (c.tmesh.continuity == "c2" && c.tmesh.degree != 3)
       throw core::ConfigError(source + ": tmesh.continuity: c2 is for cubic splines (tmesh.degree 3), got degree " + std::to_string(c.tmesh.degree));
@@ -462,6 +465,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "max_level" << YAML::Value << c.tmesh.max_level;
   e << YAML::Key << "refine" << YAML::Value << c.tmesh.refine;
   e << YAML::Key << "h_refine" << YAML::Value << c.tmesh.h_refine;
+  e << YAML::Key << "pillow_splits" << YAML::Value << c.tmesh.pillow_splits;
   e << YAML::Key << "continuity" << YAML::Value << c.tmesh.continuity << YAML::EndMap;
   e << YAML::Key << "extract" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "gauss_points" << YAML::Value << c.extract.gauss_points;

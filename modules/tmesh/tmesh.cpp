@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "bezier/bspline.h"
 #include "bezier/bspline_volume.h"
@@ -49,16 +50,35 @@ void check(const Params& params) {
   if (params.h_refine < 0 || params.h_refine > 3) throw core::ConfigError("tmesh.h_refine must be in [0, 3], got " + std::to_string(params.h_refine));
   if (params.deviation_samples < 2 || params.deviation_samples > 64)
     throw core::ConfigError("tmesh.deviation_samples must be in [2, 64], got " + std::to_string(params.deviation_samples));
+  if (params.pillow_splits < 1 || params.pillow_splits > 8)
+    throw core::ConfigError("tmesh.pillow_splits must be in [1, 8], got " + std::to_string(params.pillow_splits));
+  if (params.pillow_splits > 1 && params.pillow_layers == 0)
+    throw core::ConfigError("tmesh.pillow_splits " + std::to_string(params.pillow_splits) + " needs a pillow to split (tmesh.pillow_layers is 0)");
+}
+
+// The axis across the surface of a pillow slab (its surface faces all on one axis), else -1.
+int slab_axis(bool pillow, const std::array<int, 6>& boundary) {
+  if (!pillow) return -1;
+  int axis = -1;
+  for (int f = 0; f < 6; ++f) {
+    if (!boundary[static_cast<std::size_t>(f)]) continue;
+    if (axis >= 0 && axis != f / 2) return -1;
+    axis = f / 2;
+  }
+  return axis;
 }
 
 }  // namespace
 
-TMesh build_block(const PointMap& map, int degree, const std::array<int, 3>& elements) {
+namespace {
+
+// One block on the given clamped knot vectors, interpolating `map` at their Greville points.
+TMesh build_block_on(const PointMap& map, int degree, const std::array<std::vector<double>, 3>& knots) {
   TMesh t;
   t.degree = degree;
   std::array<std::vector<double>, 3> g;
   for (int a = 0; a < 3; ++a) {
-    t.knots[a] = bezier::open_uniform_knots(elements[a], degree);
+    t.knots[a] = knots[a];
     g[a] = bezier::greville_abscissae(t.knots[a], degree);
     t.size[a] = static_cast<int>(g[a].size());
   }
@@ -95,6 +115,14 @@ TMesh build_block(const PointMap& map, int degree, const std::array<int, 3>& ele
     t.control_points[i] = {data(r, 0), data(r, 1), data(r, 2)};
   }
   return t;
+}
+
+}  // namespace
+
+TMesh build_block(const PointMap& map, int degree, const std::array<int, 3>& elements) {
+  std::array<std::vector<double>, 3> knots;
+  for (int a = 0; a < 3; ++a) knots[a] = bezier::open_uniform_knots(elements[a], degree);
+  return build_block_on(map, degree, knots);
 }
 
 TMesh build(const PointMap& map, const Params& params) {
@@ -159,6 +187,34 @@ std::vector<double> reversed(const std::vector<double>& k) {
 
 using Row = std::map<int, double>;
 
+// How a block face lies on another with the same four corners (ids at face points (0,0), (1,0),
+// (0,1), (1,1), index i + 2j): along[d] is the other face's direction along this one's direction
+// d, flip[d] whether it runs backwards. Throws core::TopologyError naming blocks `a` and `b`.
+struct FaceFrame {
+  std::array<int, 2> along{}, flip{};
+};
+FaceFrame face_frame(const std::array<int, 4>& here, const std::array<int, 4>& there, std::size_t a, std::size_t b) {
+  std::map<int, std::array<int, 2>> at_there;
+  for (int c = 0; c < 4; ++c) at_there[there[static_cast<std::size_t>(c)]] = {c & 1, c >> 1};
+  std::array<std::array<int, 2>, 3> at{};
+  for (int k = 0; k < 3; ++k) {
+    const auto it = at_there.find(here[static_cast<std::size_t>(k)]);
+    if (it == at_there.end() || at_there.size() != 4)
+      throw core::TopologyError("tmesh: blocks " + std::to_string(a) + " and " + std::to_string(b) + " do not meet corner to corner");
+    at[static_cast<std::size_t>(k)] = it->second;
+  }
+  FaceFrame fr;
+  if (at[1][0] != at[0][0] && at[1][1] == at[0][1] && at[2][1] != at[0][1] && at[2][0] == at[0][0]) {
+    fr.along = {0, 1};
+  } else if (at[1][1] != at[0][1] && at[1][0] == at[0][0] && at[2][0] != at[0][0] && at[2][1] == at[0][1]) {
+    fr.along = {1, 0};
+  } else {
+    throw core::TopologyError("tmesh: blocks " + std::to_string(a) + " and " + std::to_string(b) + " meet on a degenerate face");
+  }
+  for (int d = 0; d < 2; ++d) fr.flip[static_cast<std::size_t>(d)] = at[0][static_cast<std::size_t>(fr.along[static_cast<std::size_t>(d)])];
+  return fr;
+}
+
 // The T-junction rows of the finer face (fine block bf, face ff) that meets the coarser face (bc,
 // fc) corner to corner: each fine point = the knot-insertion combination of the coarse face's
 // points (a tensor product of the two 1-D refinement matrices, oriented by the shared corners).
@@ -167,31 +223,13 @@ void face_rows(const std::vector<TMesh>& blocks, const std::vector<std::vector<i
   const TMesh& f = blocks[bf];
   const TMesh& c = blocks[bc];
   const auto nf = face_size(f, ff), nc = face_size(c, fc);
-  auto corner = [&](const TMesh& t, std::size_t b, int face, std::array<int, 2> n, int i, int j) {
-    return pos[b][face_point(t, face, i * (n[0] - 1), j * (n[1] - 1))];
+  auto corners = [&](const TMesh& t, std::size_t b, int face, std::array<int, 2> n) {
+    std::array<int, 4> ids{};
+    for (int k = 0; k < 4; ++k) ids[static_cast<std::size_t>(k)] = pos[b][face_point(t, face, (k & 1) * (n[0] - 1), (k >> 1) * (n[1] - 1))];
+    return ids;
   };
-  // Coarse face corner (s, t) of each fine face corner (0,0), (1,0), (0,1).
-  std::map<int, std::array<int, 2>> coarse_corner;
-  for (int j = 0; j < 2; ++j)
-    for (int i = 0; i < 2; ++i) coarse_corner[corner(c, bc, fc, nc, i, j)] = {i, j};
-  std::array<std::array<int, 2>, 3> at{};
-  const std::array<std::array<int, 2>, 3> fine_corners{{{0, 0}, {1, 0}, {0, 1}}};
-  for (int k = 0; k < 3; ++k) {
-    const auto it = coarse_corner.find(corner(f, bf, ff, nf, fine_corners[static_cast<std::size_t>(k)][0], fine_corners[static_cast<std::size_t>(k)][1]));
-    if (it == coarse_corner.end() || coarse_corner.size() != 4)
-      throw core::TopologyError("tmesh: blocks " + std::to_string(bf) + " and " + std::to_string(bc) + " do not meet corner to corner");
-    at[static_cast<std::size_t>(k)] = it->second;
-  }
   // along[d]: the coarse face direction of fine direction d; flip[d]: reversed.
-  std::array<int, 2> along{}, flip{};
-  if (at[1][0] != at[0][0] && at[1][1] == at[0][1] && at[2][1] != at[0][1] && at[2][0] == at[0][0]) {
-    along = {0, 1};
-  } else if (at[1][1] != at[0][1] && at[1][0] == at[0][0] && at[2][0] != at[0][0] && at[2][1] == at[0][1]) {
-    along = {1, 0};
-  } else {
-    throw core::TopologyError("tmesh: blocks " + std::to_string(bf) + " and " + std::to_string(bc) + " meet on a degenerate face");
-  }
-  for (int d = 0; d < 2; ++d) flip[static_cast<std::size_t>(d)] = at[0][static_cast<std::size_t>(along[static_cast<std::size_t>(d)])];
+  const auto [along, flip] = face_frame(corners(f, bf, ff, nf), corners(c, bc, fc, nc), bf, bc);
   std::array<Eigen::MatrixXd, 2> R;
   for (int d = 0; d < 2; ++d) {
     const auto& kf = f.knots[static_cast<std::size_t>((ff / 2 + 1 + d) % 3)];
@@ -227,8 +265,10 @@ bool touches_surface(const Block& b) {
   return std::any_of(b.boundary.begin(), b.boundary.end(), [](int f) { return f != 0; });
 }
 
-// The blocks of every cube, block j of cube k at level_of(k, j, whether it touches the surface).
-std::vector<TMesh> build_with(const PolycubeMaps& maps, const Params& params, const std::function<int(std::size_t, std::size_t, bool)>& block_level) {
+// The blocks of every cube, block j of cube k at level_of(k, j, whether it touches the surface),
+// on uniform knots of that level or, if given, on knots[block] (blocks in order).
+std::vector<TMesh> build_with(const PolycubeMaps& maps, const Params& params, const std::function<int(std::size_t, std::size_t, bool)>& block_level,
+                              const std::vector<std::array<std::vector<double>, 3>>* knots = nullptr) {
   const int n = 1 << params.level;
   const std::size_t cubes = maps.blocks.empty() ? maps.boundary.size() : maps.blocks.size();
   std::vector<TMesh> blocks;
@@ -245,7 +285,9 @@ std::vector<TMesh> build_with(const PolycubeMaps& maps, const Params& params, co
         throw core::ConfigError("tmesh: a block's level " + std::to_string(level) + " is outside [tmesh.level, 7]");
       const int split = 1 << (level - params.level);  // every element split in 2^3 per level
       const std::array<int, 3> elements{b.elements[0] * split, b.elements[1] * split, b.elements[2] * split};
-      TMesh t = build_block([&](const Vec3& uvw) { return maps.physical(cube, block_point(b.corners, uvw)); }, params.degree, elements);
+      const PointMap map = [&](const Vec3& uvw) { return maps.physical(cube, block_point(b.corners, uvw)); };
+      if (knots && blocks.size() >= knots->size()) throw core::InvalidInputError("tmesh: knots for " + std::to_string(knots->size()) + " blocks, the polycube has more");
+      TMesh t = knots ? build_block_on(map, params.degree, (*knots)[blocks.size()]) : build_block(map, params.degree, elements);
       t.level = level;
       t.boundary = b.boundary;
       t.component = cube;
@@ -305,6 +347,36 @@ std::vector<TMesh> build_with(const PolycubeMaps& maps, const Params& params, co
         throw core::TopologyError("tmesh: levels differ between cubes, but face " + std::to_string(list[0].second) + " of block " +
                                   std::to_string(list[0].first) + " (cube " + std::to_string(blocks[list[0].first].component) + ") is " +
                                   (list.size() == 1 ? "not the whole face of another block" : "shared by more than two blocks"));
+  // Blocks on given knots must still meet face to face: a face whose points the block across it
+  // lacks would hang (a crack). refinement_splits() makes faces met corner to corner agree; a
+  // face met in part (box_complex) is checked here, and refused rather than written.
+  if (knots) {
+    std::map<int, int> blocks_at;  // polycube position -> blocks that have a point there
+    for (std::size_t b = 0; b < blocks.size(); ++b)
+      for (const int at : std::set<int>(pos[b].begin(), pos[b].end())) ++blocks_at[at];
+    for (const auto& [key, list] : faces) {
+      const auto [b, f] = list[0];
+      const bool same_level = list.size() == 2 && blocks[list[1].first].level == blocks[b].level;
+      std::set<int> here, there;
+      const auto nf = face_size(blocks[b], f);
+      for (int j = 0; j < nf[1]; ++j)
+        for (int i = 0; i < nf[0]; ++i) here.insert(pos[b][face_point(blocks[b], f, i, j)]);
+      bool ok = true;
+      if (same_level) {
+        const auto [b2, f2] = list[1];
+        const auto n2 = face_size(blocks[b2], f2);
+        for (int j = 0; j < n2[1]; ++j)
+          for (int i = 0; i < n2[0]; ++i) there.insert(pos[b2][face_point(blocks[b2], f2, i, j)]);
+        ok = here == there;
+      } else if (list.size() == 1) {
+        ok = std::all_of(here.begin(), here.end(), [&](int at) { return blocks_at[at] >= 2; });
+      }
+      if (!ok)
+        throw core::TopologyError("tmesh.pillow_splits: face " + std::to_string(f) + " of block " + std::to_string(b) + " (cube " +
+                                  std::to_string(blocks[b].component) + ", " + blocks[b].kind +
+                                  ") meets a block split otherwise: the pillow layer cannot be split there (use pillow_splits 1)");
+    }
+  }
   std::map<int, Row> rows;
   for (const auto& [key, list] : faces) {
     if (list.size() != 2) continue;
@@ -584,11 +656,88 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
   return blocks;
 }
 
+std::vector<SpanSplits> refinement_splits(const PolycubeMaps& maps, const Params& params, const std::vector<TMesh>& coarse, int times) {
+  check(params);
+  if (times < 0 || times > 3) throw core::ConfigError("tmesh.h_refine must be in [0, 3], got " + std::to_string(times));
+  std::vector<SpanSplits> out(coarse.size());
+  for (std::size_t b = 0; b < coarse.size(); ++b) {
+    const int axis = slab_axis(coarse[b].kind == "pillow", coarse[b].boundary);
+    for (int a = 0; a < 3; ++a)
+      out[b][static_cast<std::size_t>(a)].assign(bezier::element_intervals(coarse[b].knots[static_cast<std::size_t>(a)], coarse[b].degree).size(),
+                                                 (1 << times) * (a == axis ? params.pillow_splits : 1));
+  }
+  if (params.pillow_splits == 1) return out;
+  // Faces met corner to corner, found by their corners in polycube space (as build() finds shared
+  // points), whatever the blocks' levels.
+  std::vector<std::array<Vec3, 8>> corner(coarse.size());
+  double extent = 1;
+  for (std::size_t b = 0; b < coarse.size(); ++b)
+    for (int c = 0; c < 8; ++c) {
+      corner[b][static_cast<std::size_t>(c)] = maps.polycube(coarse[b].component, block_point(coarse[b].corners, Vec3{double(c & 1), double((c >> 1) & 1), double(c >> 2)}));
+      for (const double v : corner[b][static_cast<std::size_t>(c)]) extent = std::max(extent, std::abs(v));
+    }
+  PointIds ids(1e-9 * extent);
+  std::map<std::array<int, 4>, std::vector<std::pair<std::size_t, int>>> faces;
+  std::vector<std::array<std::array<int, 4>, 6>> face_corners(coarse.size());
+  for (std::size_t b = 0; b < coarse.size(); ++b)
+    for (int f = 0; f < 6; ++f) {
+      const int ax = f / 2;
+      for (int k = 0; k < 4; ++k) {
+        std::array<int, 3> bit{};
+        bit[static_cast<std::size_t>(ax)] = f % 2, bit[static_cast<std::size_t>((ax + 1) % 3)] = k & 1, bit[static_cast<std::size_t>((ax + 2) % 3)] = k >> 1;
+        face_corners[b][static_cast<std::size_t>(f)][static_cast<std::size_t>(k)] = ids.id(corner[b][static_cast<std::size_t>(bit[0] + 2 * bit[1] + 4 * bit[2])]);
+      }
+      if (coarse[b].boundary[static_cast<std::size_t>(f)]) continue;
+      std::array<int, 4> key = face_corners[b][static_cast<std::size_t>(f)];
+      std::sort(key.begin(), key.end());
+      faces[key].push_back({b, f});
+    }
+  // Across a face, each tangent direction's spans split alike on both sides (a finer side's r
+  // spans as the coarser side's one): the largest count wins until every face agrees.
+  struct Tie {
+    std::size_t b[2];
+    std::size_t axis[2];
+    bool flip;
+  };
+  std::vector<Tie> ties;
+  for (const auto& [key, list] : faces) {
+    if (list.size() != 2) continue;  // met in part (box_complex): build_with checks those
+    const auto [b0, f0] = list[0];
+    const auto [b1, f1] = list[1];
+    const FaceFrame fr = face_frame(face_corners[b0][static_cast<std::size_t>(f0)], face_corners[b1][static_cast<std::size_t>(f1)], b0, b1);
+    for (int d = 0; d < 2; ++d)
+      ties.push_back({{b0, b1},
+                      {static_cast<std::size_t>((f0 / 2 + 1 + d) % 3), static_cast<std::size_t>((f1 / 2 + 1 + fr.along[static_cast<std::size_t>(d)]) % 3)},
+                      fr.flip[static_cast<std::size_t>(d)] != 0});
+  }
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const Tie& t : ties) {
+      std::vector<int>& u = out[t.b[0]][t.axis[0]];
+      std::vector<int>& v = out[t.b[1]][t.axis[1]];
+      const std::size_t nu = u.size(), nv = v.size(), n = std::min(nu, nv), r = std::max(nu, nv) / n;
+      if (n == 0 || r * n != std::max(nu, nv))
+        throw core::TopologyError("tmesh.pillow_splits: blocks " + std::to_string(t.b[0]) + " and " + std::to_string(t.b[1]) + " meet with " +
+                                  std::to_string(nu) + " and " + std::to_string(nv) + " elements along one face direction");
+      // Span i of the side with n spans is spans r·i … r·i + r − 1 of the other, in u's direction.
+      for (std::size_t i = 0; i < n; ++i) {
+        auto at_v = [&](std::size_t j) { return t.flip ? nv - 1 - j : j; };
+        int m = 0;
+        for (std::size_t q = 0; q < nu / n; ++q) m = std::max(m, u[i * (nu / n) + q]);
+        for (std::size_t q = 0; q < nv / n; ++q) m = std::max(m, v[at_v(i * (nv / n) + q)]);
+        for (std::size_t q = 0; q < nu / n; ++q) changed |= std::exchange(u[i * (nu / n) + q], m) != m;
+        for (std::size_t q = 0; q < nv / n; ++q) changed |= std::exchange(v[at_v(i * (nv / n) + q)], m) != m;
+      }
+    }
+  }
+  return out;
+}
+
 std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, const std::vector<TMesh>& coarse, int times, std::vector<int>* parent) {
   check(params);
   if (times < 0 || times > 3) throw core::ConfigError("tmesh.h_refine must be in [0, 3], got " + std::to_string(times));
   if (parent) parent->clear();
-  if (times == 0) {
+  if (times == 0 && params.pillow_splits == 1) {
     if (parent) {
       int n = 0;
       for (const TMesh& t : coarse) n += t.elements();
@@ -598,7 +747,26 @@ std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, cons
     return coarse;
   }
   // The structure (knots, ids, T-junction rows) is build()'s at every block's level + times; its
-  // positions are not needed, so the physical map is the identity (no point location).
+  // positions are not needed, so the physical map is the identity (no point location). With
+  // pillow_splits the knots are the coarse ones with every span split as refinement_splits() says.
+  std::vector<std::array<std::vector<double>, 3>> knots;
+  if (params.pillow_splits > 1) {
+    const std::vector<SpanSplits> splits = refinement_splits(maps, params, coarse, times);
+    for (std::size_t b = 0; b < coarse.size(); ++b) {
+      std::array<std::vector<double>, 3> k;
+      for (std::size_t a = 0; a < 3; ++a) {
+        const std::vector<double>& c = coarse[b].knots[a];
+        std::size_t span = 0;
+        for (std::size_t i = 0; i < c.size(); ++i) {
+          k[a].push_back(c[i]);
+          if (i + 1 == c.size() || c[i + 1] <= c[i]) continue;
+          const int m = splits[b][a][span++];
+          for (int q = 1; q < m; ++q) k[a].push_back(c[i] + (c[i + 1] - c[i]) * q / m);
+        }
+      }
+      knots.push_back(std::move(k));
+    }
+  }
   PolycubeMaps structure = maps;
   structure.physical = [](int, const Vec3& x) { return x; };
   std::vector<std::size_t> offset;  // first block of each cube in `coarse`
@@ -610,7 +778,7 @@ std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, cons
     if (b >= coarse.size() || coarse[b].component != static_cast<int>(k))
       throw core::InvalidInputError("tmesh h-refinement: the T-mesh's blocks are not those of its polycube (cube " + std::to_string(k) + ", block " + std::to_string(j) + ")");
     return coarse[b].level + times;
-  });
+  }, params.pillow_splits > 1 ? &knots : nullptr);
   if (fine.size() != coarse.size())
     throw core::InvalidInputError("tmesh h-refinement: " + std::to_string(coarse.size()) + " blocks, but the polycube has " + std::to_string(fine.size()));
   // Positions: each block's fine points are the knot-insertion refinement of its coarse points,
@@ -840,12 +1008,17 @@ std::vector<std::vector<int>> global_ids(const std::vector<TMesh>& ts, int* coun
 
 // The spline at the corners of t's elements, each split in `splits` per direction, index
 // i + (n0+1)*(j + (n1+1)*k), and in n the number of (split) elements per direction.
-std::vector<Vec3> corner_grid(const TMesh& t, std::array<int, 3>* n, int splits = 1) {
+std::vector<Vec3> corner_grid(const TMesh& t, std::array<int, 3>* n, const SpanSplits* splits = nullptr) {
   std::array<std::vector<double>, 3> g;
   for (std::size_t a = 0; a < 3; ++a) {
     const auto intervals = bezier::element_intervals(t.knots[a], t.degree);
-    for (const auto& iv : intervals)
-      for (int i = 0; i < splits; ++i) g[a].push_back(i == 0 ? iv[0] : iv[0] + (iv[1] - iv[0]) * i / splits);
+    if (splits && (*splits)[a].size() != intervals.size())
+      throw core::ConfigError("tmesh: " + std::to_string((*splits)[a].size()) + " split counts for " + std::to_string(intervals.size()) + " element spans");
+    for (std::size_t e = 0; e < intervals.size(); ++e) {
+      const auto& iv = intervals[e];
+      const int m = splits ? (*splits)[a][e] : 1;
+      for (int i = 0; i < m; ++i) g[a].push_back(i == 0 ? iv[0] : iv[0] + (iv[1] - iv[0]) * i / m);
+    }
     g[a].push_back(intervals.back()[1]);
     (*n)[a] = static_cast<int>(g[a].size()) - 1;
   }
@@ -859,7 +1032,7 @@ std::vector<Vec3> corner_grid(const TMesh& t, std::array<int, 3>* n, int splits 
 
 // Calls f(corners in VTK order) for every element of t, as a trilinear hex of its corner points.
 template <class F>
-void for_each_trilinear_element(const TMesh& t, F&& f, int splits = 1) {
+void for_each_trilinear_element(const TMesh& t, F&& f, const SpanSplits* splits = nullptr) {
   std::array<int, 3> n{};
   const std::vector<Vec3> x = corner_grid(t, &n, splits);
   auto at = [&](int i, int j, int k) { return static_cast<std::size_t>(i + (n[0] + 1) * (j + (n[1] + 1) * k)); };
@@ -1037,8 +1210,17 @@ NodeCounts count_nodes(const std::vector<TMesh>& ts) {
 
 double min_element_scaled_jacobian(const TMesh& t, int h_refine) {
   if (h_refine < 0 || h_refine > 3) throw core::ConfigError("tmesh::min_element_scaled_jacobian: h_refine must be in [0, 3], got " + std::to_string(h_refine));
+  SpanSplits splits;
+  for (std::size_t a = 0; a < 3; ++a) splits[a].assign(bezier::element_intervals(t.knots[a], t.degree).size(), 1 << h_refine);
+  return min_element_scaled_jacobian(t, splits);
+}
+
+double min_element_scaled_jacobian(const TMesh& t, const SpanSplits& splits) {
+  for (const auto& axis : splits)
+    for (const int s : axis)
+      if (s < 1 || s > 64) throw core::ConfigError("tmesh::min_element_scaled_jacobian: splits must be in [1, 64], got " + std::to_string(s));
   double worst = std::numeric_limits<double>::infinity();
-  for_each_trilinear_element(t, [&](const std::array<Vec3, 8>& c) { worst = std::min(worst, trilinear_min_scaled_jacobian(c)); }, 1 << h_refine);
+  for_each_trilinear_element(t, [&](const std::array<Vec3, 8>& c) { worst = std::min(worst, trilinear_min_scaled_jacobian(c)); }, &splits);
   return worst;
 }
 

@@ -112,6 +112,12 @@ struct Params {
   /// refines to tmesh.level (optimizing the coarse spline sees its field between the fine
   /// samples: session 32, docs/status.md).
   int h_refine = 1;
+  /// Boundary-layer refinement: h_refine() also splits every element of the pillow layer in this
+  /// many across the surface by knot insertion — the same spline on thinner elements along it.
+  /// The layer is the pillow slabs' elements across their surface face, followed across block
+  /// faces wherever it runs on (refinement_splits()). Needs a pillow (pillow_layers >= 1) [1, 8];
+  /// 1 = none. build() ignores it: the optimizer sees the unsplit net.
+  int pillow_splits = 1;
 };
 
 using Vec3 = std::array<double, 3>;
@@ -216,15 +222,31 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, const s
 
 /// h-refinement by knot insertion (Boehm; bezier::refinement_matrix): the spline of `coarse` —
 /// blocks as build() made them from `maps` and `params`, control points moved since — with every
-/// element split in eight `times` times. Knots, node ids and T-junction rows are build()'s at
-/// every block's level + times; control points are the refinement of `coarse`'s, so the map, its
-/// Jacobian and its validity are unchanged. `parent` (optional): per fine element (blocks in
-/// order, i fastest) the index of the coarse element that holds it. Throws core::ConfigError for
-/// `times` outside [0, 3] or a level above 7, core::InvalidInputError if `coarse` is not the
-/// block layout of `maps`, core::NumericalError if its blocks disagree on a shared node or a
-/// T-junction is off its row (not C0).
+/// element split in eight `times` times, and the pillow slabs' elements split in
+/// params.pillow_splits across the surface on top (refinement_splits()). Knots, node ids and
+/// T-junction rows are build()'s at every block's level + times; control points are the
+/// refinement of `coarse`'s, so the map, its Jacobian and its validity are unchanged. `parent`
+/// (optional): per fine element (blocks in order, i fastest) the index of the coarse element
+/// that holds it. Throws core::ConfigError for `times` outside [0, 3], a level above 7 or
+/// pillow_splits out of range, core::InvalidInputError if `coarse` is not the block layout of
+/// `maps`, core::TopologyError as refinement_splits() or if split blocks meet in part where the
+/// other side lacks points (a crack refused), core::NumericalError if
+/// its blocks disagree on a shared node or a T-junction is off its row (not C0).
 std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, const std::vector<TMesh>& coarse, int times,
                             std::vector<int>* parent = nullptr);
+
+/// Per axis of a block, per element span along it: into how many elements h_refine() splits it.
+using SpanSplits = std::array<std::vector<int>, 3>;
+
+/// The splits h_refine(maps, params, coarse, times) makes, per block of `coarse`: 2^times per
+/// span, times params.pillow_splits on the spans of the pillow layer — across the surface in the
+/// pillow slabs (kind "pillow", surface faces on one axis), and on every span a block face ties to
+/// one of those (across a face both sides split alike, a finer side's two spans as the coarser
+/// side's one), so the layer runs on through whatever blocks it crosses (the pillow wrapping a
+/// concave edge) and the refined blocks still meet face to face. Throws core::ConfigError for
+/// `times` or params out of range, core::TopologyError if two blocks meet corner to corner with
+/// span counts that do not nest.
+std::vector<SpanSplits> refinement_splits(const PolycubeMaps& maps, const Params& params, const std::vector<TMesh>& coarse, int times);
 
 /// Points per element direction of the T-mesh laid out at `params` (h_refine levels coarser than
 /// its `level`) that give Params::deviation_samples per element once it is h-refined: extract's
@@ -280,6 +302,10 @@ NodeCounts count_nodes(const std::vector<TMesh>& t);
 /// h_refine(…, t, h_refine) (knot insertion keeps the spline) up to rounding, without building it.
 /// Throws core::ConfigError if h_refine is outside [0, 3].
 double min_element_scaled_jacobian(const TMesh& t, int h_refine = 0);
+/// The same with the element spans split as `splits` says (refinement_splits(): the figure of
+/// h_refine() with pillow_splits). Throws core::ConfigError unless there is one count in [1, 64]
+/// per span.
+double min_element_scaled_jacobian(const TMesh& t, const SpanSplits& splits);
 
 /// ParaView view: the T-mesh elements as trilinear hexes, with `scaled_jacobian`, `component`,
 /// `block` and `pillow` per cell, plus the `extra` cell fields (name, one value per element in

@@ -115,6 +115,11 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_NE(config_error("extract: {dense_points: 17}\n").find("extract.dense_points"), std::string::npos);
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {h_refine: 2}\n", "t")), "emitted").tmesh.h_refine, 2);
   EXPECT_NE(config_error("tmesh: {h_refine: 4}\n").find("tmesh.h_refine"), std::string::npos);
+  EXPECT_EQ(file.tmesh.pillow_splits, tmesh::Params{}.pillow_splits);
+  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {pillow_splits: 3}\n", "t")), "emitted").tmesh.pillow_splits, 3);
+  for (const char* bad : {"tmesh: {pillow_splits: 0}\n", "tmesh: {pillow_splits: 9}\n", "tmesh: {pillow_splits: two}\n",
+                          "tmesh: {pillow_splits: 2, pillow_layers: 0}\n"})
+    EXPECT_NE(config_error(bad).find("tmesh.pillow_splits"), std::string::npos) << bad;
   EXPECT_EQ(file.tmesh.rim_pillow_lenses, tmesh::Params{}.rim_pillow_lenses);
   EXPECT_TRUE(file.tmesh.fold_retry);
   EXPECT_EQ(file.tmesh.fold_retry, tmesh::OptimizeParams{}.fold_retry);

@@ -403,6 +403,45 @@ TEST(Pipeline, LShapedProfileRingIsPillowedAroundItsConcaveEdge) {
   EXPECT_LT(x["volume_rel_error"].get<double>(), 0.005);
 }
 
+TEST(Pipeline, PillowSplitsThinTheLayerAlongTheSurfaceWithTheSameSpline) {
+  // tmesh.pillow_splits (boundary layers): the demo torus at the defaults, then again from tmesh
+  // with the pillow layer split in 3 across the surface. Knot insertion keeps the spline and no
+  // surface face is split along the surface, so the boundary deviation is the same figure; only
+  // the layer gains elements (each of its elements becomes 3, the core's stay); every element is
+  // still certified valid and every export parses. (The layer wrapping a concave edge:
+  // tests/tmesh/h_refine_test.cpp.)
+  const fs::path d = test::fresh_dir("pipeline", "pillow_splits");
+  test::write_text(d / "one.yaml", "input: {generate: torus, resolution: 24}\nextract: {exports: [vtu]}\n");
+  test::write_text(d / "three.yaml", "input: {generate: torus, resolution: 24}\ntmesh: {pillow_splits: 3}\n");
+  const test::Outcome r1 = test::run(test::bin("volts") + " run " + (d / "one.yaml").string() + " --workdir " + (d / "one").string());
+  ASSERT_EQ(r1.code, 0) << r1.output;
+  fs::create_directories(d / "three");
+  for (const char* f : {"classify.stage.json", "split.stage.json", "polycube.stage.json"}) fs::copy_file(d / "one" / f, d / "three" / f);
+  const test::Outcome r3 = test::run(test::bin("volts") + " run " + (d / "three.yaml").string() + " --workdir " + (d / "three").string() + " --from tmesh");
+  ASSERT_EQ(r3.code, 0) << r3.output;
+  const core::Json rep1 = core::read_report((d / "one").string()), rep3 = core::read_report((d / "three").string());
+  EXPECT_EQ(rep1["stages"]["tmesh"]["pillow_splits"], 1);
+  EXPECT_EQ(rep3["stages"]["tmesh"]["pillow_splits"], 3);
+  const core::Json& x1 = rep1["stages"]["extract"];
+  const core::Json& x3 = rep3["stages"]["extract"];
+  const int n1 = x1["bezier_elements"].get<int>(), n3 = x3["bezier_elements"].get<int>();
+  // The layer's elements: (n3 - n1) / 2 of the n1, a share of them but not all.
+  EXPECT_EQ((n3 - n1) % 2, 0);
+  EXPECT_GT(n3 - n1, n1 / 2) << "the pillow layer holds most of a ring's elements";
+  EXPECT_LT(n3 - n1, 2 * n1) << "elements off the layer were split too";
+  EXPECT_EQ(x3["certified_valid"], x3["bezier_elements"]);
+  EXPECT_LT(x3["partition_of_unity_error"].get<double>(), 1e-12);
+  EXPECT_NEAR(x3["hausdorff_rel"].get<double>(), x1["hausdorff_rel"].get<double>(), 1e-12);
+  EXPECT_NEAR(x3["volume_rel_error"].get<double>(), x1["volume_rel_error"].get<double>(), 1e-6);
+  EXPECT_GT(x3["global_functions"].get<int>(), x1["global_functions"].get<int>());
+  test::expect_every_export_parses(d / "three", /*gmsh_check=*/false);
+  test::write_text(d / "flat.yaml", "input: {generate: torus, resolution: 24}\ntmesh: {pillow_splits: 2, pillow_layers: 0}\n");
+  const test::Outcome bad = test::run(test::bin("volts") + " run " + (d / "flat.yaml").string() + " --workdir " + (d / "flat").string());
+  EXPECT_EQ(bad.code, 3) << bad.output;
+  EXPECT_NE(bad.output.find("tmesh.pillow_splits 2 needs a pillow"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(d / "flat" / "classify.stage.json"));
+}
+
 TEST(Pipeline, EightRunsEndToEndWithEveryElementValid) {
   // Issue 8 on the eight (cfwen_eight, defaults): two rings of four cubes and a connector cube
   // between their disks (split.genus2 auto), a conforming interface, every Bézier element
