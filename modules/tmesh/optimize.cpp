@@ -1243,14 +1243,21 @@ void summarize(const std::vector<Quality>& q, double* worst, int* invalid) {
 
 // Certified-valid elements whose field dips between their samples (OptimizeParams::check_points,
 // check_tolerance) are sampled on the check grid from then on; returns how many were switched.
+// `checked` (per element, its Bézier points when last checked and not switched) skips the
+// elements no move has touched since: the same points give the same figures (a cycle's sliding
+// rounds move a few percent of them; the check grid is most of a cycle's cost on the eight).
 int sample_dips_densely(const Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eigen::Matrix3d>>& samples, core::ThreadPool& pool,
-                        const OptimizeParams& params) {
+                        const OptimizeParams& params, std::vector<std::vector<Eigen::Vector3d>>& checked) {
   if (params.check_points < 2) return 0;
   std::vector<std::vector<Eigen::Matrix3d>> dense(s.size());
   std::vector<double> figure(s.size(), std::numeric_limits<double>::infinity());
+  checked.resize(s.size());
   pool.for_each(s.size(), [&](std::size_t e) {
     if (!q[e].valid || q[e].grid >= params.check_points) return;
-    std::vector<Eigen::Matrix3d> js = bezier::jacobian_samples(s.hex(e), params.gauss_points, params.check_points);
+    bezier::BezierHex h = s.hex(e);
+    if (h.points == checked[e]) return;
+    std::vector<Eigen::Matrix3d> js = bezier::jacobian_samples(h, params.gauss_points, params.check_points);
+    checked[e] = std::move(h.points);
     const double m = bezier::summarize_jacobians(js).min_scaled;
     if (m < params.target && m < q[e].scaled - params.check_tolerance) figure[e] = m, dense[e] = std::move(js);
   });
@@ -1593,6 +1600,7 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
   std::vector<XRowSamples> x_rows;  // per block (its degree)
   for (const TMesh& t : blocks) x_rows.emplace_back(t.degree, params.gauss_points, params.grid_points);
   auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
+  std::vector<std::vector<Eigen::Vector3d>> checked;  // sample_dips_densely's: elements checked and not moved since
   // The nodes at the best cycle end, judged once that end's dips are on the check grid: within a
   // cycle no figure falls, but the dips a cycle's moves open between the samples are only found
   // at its end, and a last cycle may open deeper ones than it raised (the pillowed twist 0.8:
@@ -1646,7 +1654,7 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
                 ", not certified valid " + std::to_string(cycle_invalid) + " -> " + std::to_string(cycle_invalid_end));
     if (r.stop_reason == "disabled") break;
     // Dips found: the next cycle raises them (if there is one).
-    const int dips = params.sweeps > 0 ? sample_dips_densely(s, q, samples, pool, params) : 0;
+    const int dips = params.sweeps > 0 ? sample_dips_densely(s, q, samples, pool, params, checked) : 0;
     r.elements_on_check_grid += dips;
     if (params.check_points >= 2 && params.cycles > 1) {
       double w = 0;
