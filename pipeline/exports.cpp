@@ -37,7 +37,8 @@ std::vector<std::function<void()>> solver_export_tasks(const StageContext& ctx, 
     files["bext"] = beside(".bext"), files["k"] = beside(".k");
   }
   if (wanted("json")) {
-    tasks.emplace_back([&r, beside] { extract::write_bezier_json(beside(".json"), r); });
+    const auto operators = ctx.config.extract.json_operators == "kronecker" ? extract::JsonOperators::kronecker : extract::JsonOperators::triplets;
+    tasks.emplace_back([&r, beside, operators] { extract::write_bezier_json(beside(".json"), r, operators); });
     files["json"] = beside(".json");
   }
   if (wanted("msh")) {

@@ -263,6 +263,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     if (c.extract.dense_points == 1) throw core::ConfigError(source + ": extract.dense_points: must be 0 or in [2, 16], got 1");
     s.get("certify_max_depth", c.extract.certify.max_depth, 0, 20);
     s.get("exports", c.extract.exports, extract::export_names());
+    s.get("json_operators", c.extract.json_operators, {"triplets", "kronecker"});
     s.finish();
   }
   {
@@ -472,7 +473,8 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "boundary_samples" << YAML::Value << c.extract.boundary_samples;
   e << YAML::Key << "dense_points" << YAML::Value << c.extract.dense_points;
   e << YAML::Key << "certify_max_depth" << YAML::Value << c.extract.certify.max_depth;
-  e << YAML::Key << "exports" << YAML::Value << YAML::Flow << c.extract.exports << YAML::EndMap;
+  e << YAML::Key << "exports" << YAML::Value << YAML::Flow << c.extract.exports;
+  e << YAML::Key << "json_operators" << YAML::Value << c.extract.json_operators << YAML::EndMap;
   const auto& t = c.tet2hex;
   e << YAML::Key << "tet2hex" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "max_radius_edge_ratio" << YAML::Value << t.tetgen.max_radius_edge_ratio;

@@ -195,41 +195,148 @@ void put_json(std::string& out, long v) {
 
 }  // namespace
 
-void write_bezier_json(const std::string& path, const Result& r) {
+bool kronecker_factors(const Eigen::SparseMatrix<double, Eigen::RowMajor>& op, int degree, std::array<Eigen::MatrixXd, 3>* factors,
+                       std::vector<int>* order) {
+  const int n = degree + 1, m = n * n * n;
+  if (degree < 1 || op.rows() != m || op.cols() != m) return false;
+  const Eigen::MatrixXd C(op);
+  const double top = C.cwiseAbs().maxCoeff();
+  if (!(top > 0)) return false;
+  // Rows are the element's functions in global order. A function of a product is the product of
+  // one function per direction, and its coefficients summed over the other two directions are
+  // that function's 1-D row up to scale: rows with the same such marginal share that direction's
+  // index. The distinct marginals, ordered by their centroid, number that direction's functions.
+  std::array<int, 3> col_stride{1, n, n * n};
+  std::vector<std::array<int, 3>> at(static_cast<std::size_t>(m));
+  for (int d = 0; d < 3; ++d) {
+    std::vector<Eigen::VectorXd> marginal(static_cast<std::size_t>(m), Eigen::VectorXd::Zero(n));
+    for (int r = 0; r < m; ++r) {
+      Eigen::VectorXd& v = marginal[static_cast<std::size_t>(r)];
+      for (int c = 0; c < m; ++c) v[c / col_stride[static_cast<std::size_t>(d)] % n] += C(r, c);
+      const double sum = v.sum();
+      if (!(std::abs(sum) > 1e-300)) return false;
+      v /= sum;
+    }
+    std::vector<Eigen::VectorXd> distinct;
+    for (int r = 0; r < m; ++r) {
+      std::size_t k = 0;
+      while (k < distinct.size() && (distinct[k] - marginal[static_cast<std::size_t>(r)]).cwiseAbs().maxCoeff() > 1e-12) ++k;
+      if (k == distinct.size()) {
+        if (static_cast<int>(distinct.size()) == n) return false;
+        distinct.push_back(marginal[static_cast<std::size_t>(r)]);
+      }
+      at[static_cast<std::size_t>(r)][static_cast<std::size_t>(d)] = static_cast<int>(k);
+    }
+    if (static_cast<int>(distinct.size()) != n) return false;
+    std::vector<int> rank(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) rank[static_cast<std::size_t>(k)] = k;
+    const Eigen::VectorXd position = Eigen::VectorXd::LinSpaced(n, 0, n - 1);
+    std::stable_sort(rank.begin(), rank.end(), [&](int a, int b) { return distinct[static_cast<std::size_t>(a)].dot(position) < distinct[static_cast<std::size_t>(b)].dot(position); });
+    std::vector<int> index_of(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) index_of[static_cast<std::size_t>(rank[static_cast<std::size_t>(k)])] = k;
+    for (auto& a : at) a[static_cast<std::size_t>(d)] = index_of[static_cast<std::size_t>(a[static_cast<std::size_t>(d)])];
+  }
+  std::vector<int> row_of(static_cast<std::size_t>(m), -1);
+  for (int r = 0; r < m; ++r) {
+    const auto& a = at[static_cast<std::size_t>(r)];
+    int& slot = row_of[static_cast<std::size_t>(a[0] + n * (a[1] + n * a[2]))];
+    if (slot >= 0) return false;
+    slot = r;
+  }
+  // The factors through the largest entry (i0 j0 k0, a0 b0 c0): the slices along each direction,
+  // each scaled to columns summing to one (the 1-D extraction operators).
+  Eigen::MatrixXd P(m, m);
+  for (int t = 0; t < m; ++t) P.row(t) = C.row(row_of[static_cast<std::size_t>(t)]);
+  Eigen::Index r0 = 0, c0 = 0;
+  P.cwiseAbs().maxCoeff(&r0, &c0);
+  const std::array<int, 3> ri{static_cast<int>(r0) % n, static_cast<int>(r0) / n % n, static_cast<int>(r0) / (n * n)};
+  const std::array<int, 3> ci{static_cast<int>(c0) % n, static_cast<int>(c0) / n % n, static_cast<int>(c0) / (n * n)};
+  for (int d = 0; d < 3; ++d) {
+    Eigen::MatrixXd& f = (*factors)[static_cast<std::size_t>(d)];
+    f.resize(n, n);
+    for (int i = 0; i < n; ++i)
+      for (int a = 0; a < n; ++a) {
+        int row = 0, col = 0;
+        for (int e = 0; e < 3; ++e) {
+          row += (e == d ? i : ri[static_cast<std::size_t>(e)]) * col_stride[static_cast<std::size_t>(e)];
+          col += (e == d ? a : ci[static_cast<std::size_t>(e)]) * col_stride[static_cast<std::size_t>(e)];
+        }
+        f(i, a) = P(row, col);
+      }
+    for (int a = 0; a < n; ++a) {
+      const double sum = f.col(a).sum();
+      if (!(std::abs(sum) > 1e-300)) return false;
+      f.col(a) /= sum;
+    }
+  }
+  const Eigen::MatrixXd& k0 = (*factors)[0];
+  const Eigen::MatrixXd& k1 = (*factors)[1];
+  const Eigen::MatrixXd& k2 = (*factors)[2];
+  for (int t = 0; t < m; ++t)
+    for (int col = 0; col < m; ++col) {
+      const double v = k0(t % n, col % n) * k1(t / n % n, col / n % n) * k2(t / (n * n), col / (n * n));
+      if (!(std::abs(v - P(t, col)) <= 1e-14 * top)) return false;
+    }
+  if (order) *order = std::move(row_of);
+  return true;
+}
+
+void write_bezier_json(const std::string& path, const Result& r, JsonOperators operators) {
   const GlobalBasis& g = r.basis;
+  const bool kronecker = operators == JsonOperators::kronecker;
   // Keys in nlohmann's order (sorted), as core::write_stage_file writes them.
   std::string out;
   std::size_t nonzeros = 0;
   for (const auto& el : g.elements) nonzeros += static_cast<std::size_t>(el.op.nonZeros());
-  out.reserve(32 * nonzeros + 64 * g.points.size() + 512 * g.elements.size());  // ~25 characters a triplet
+  out.reserve((kronecker ? 0 : 32 * nonzeros) + 64 * g.points.size() + 1024 * g.elements.size());  // ~25 characters a triplet
   out += "{\"bernstein_order\":\"i + (p+1)*(j + (p+1)*k), as BezierHex and the .bext\",\"elements\":[";
   for (std::size_t e = 0; e < g.elements.size(); ++e) {
     const auto& el = g.elements[e];
     if (e) out += ',';
     out += "{\"degree\":[";
     for (int d = 0; d < 3; ++d) put_json(out, static_cast<long>(r.degree)), out += d < 2 ? "," : "]";
+    // Version 2: a product's functions in the order of its factors' rows (i + n(j + n k)).
+    std::array<Eigen::MatrixXd, 3> k;
+    std::vector<int> order;
+    const bool product = kronecker && kronecker_factors(el.op, r.degree, &k, &order);
     out += ",\"functions\":[";
     for (std::size_t i = 0; i < el.functions.size(); ++i) {
       if (i) out += ',';
-      put_json(out, static_cast<long>(el.functions[i]));
+      put_json(out, static_cast<long>(el.functions[product ? static_cast<std::size_t>(order[i]) : i]));
     }
     out += ']';
     if (e < r.min_scaled_jacobian.size()) out += ",\"min_scaled_jacobian\":", put_json(out, r.min_scaled_jacobian[e]);
     out += ",\"operator\":{\"columns\":";
     put_json(out, static_cast<long>(el.op.cols()));
-    out += ",\"rows\":";
-    put_json(out, static_cast<long>(el.op.rows()));
-    out += ",\"triplets\":[";
-    bool first = true;
-    for (int row = 0; row < el.op.outerSize(); ++row)
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(el.op, row); it; ++it) {
-        out += first ? "[" : ",[";
-        first = false;
-        put_json(out, static_cast<long>(row)), out += ',';
-        put_json(out, static_cast<long>(it.col())), out += ',';
-        put_json(out, it.value()), out += ']';
+    if (product) {
+      out += ",\"kronecker\":[";
+      for (int d = 0; d < 3; ++d) {
+        out += d ? ",[" : "[";
+        for (Eigen::Index i = 0; i < k[static_cast<std::size_t>(d)].rows(); ++i)
+          for (Eigen::Index a = 0; a < k[static_cast<std::size_t>(d)].cols(); ++a) {
+            if (i || a) out += ',';
+            put_json(out, k[static_cast<std::size_t>(d)](i, a));
+          }
+        out += ']';
       }
-    out += "]}";
+      out += "],\"rows\":";
+      put_json(out, static_cast<long>(el.op.rows()));
+      out += '}';
+    } else {
+      out += ",\"rows\":";
+      put_json(out, static_cast<long>(el.op.rows()));
+      out += ",\"triplets\":[";
+      bool first = true;
+      for (int row = 0; row < el.op.outerSize(); ++row)
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(el.op, row); it; ++it) {
+          out += first ? "[" : ",[";
+          first = false;
+          put_json(out, static_cast<long>(row)), out += ',';
+          put_json(out, static_cast<long>(it.col())), out += ',';
+          put_json(out, it.value()), out += ']';
+        }
+      out += "]}";
+    }
     if (e < r.status.size()) out += ",\"status\":", put_json(out, static_cast<long>(r.status[e]));
     out += '}';
   }
@@ -246,7 +353,7 @@ void write_bezier_json(const std::string& path, const Result& r) {
     if (i) out += ',';
     put_json(out, g.weights[i]);
   }
-  out += "]},\"producer\":" + core::Json(core::producer()).dump() + ",\"version\":1}\n";
+  out += "]},\"producer\":" + core::Json(core::producer()).dump() + ",\"version\":" + (kronecker ? "2" : "1") + "}\n";
   core::write_text_atomically(path, out);
 }
 

@@ -30,10 +30,26 @@ void write_bext(const std::string& path, const Result& r);
 /// placeholder *PART, *SECTION_SOLID (ELFORM 201) and *MAT_ELASTIC the user edits, *END.
 void write_lsdyna_deck(const std::string& path, const std::string& bext_name);
 
-/// bezier.json ("volts-bezier", version 1): global functions (points, weights), per element its
-/// degrees, global function ids, extraction operator as triplets [row, column, value], status and
-/// min scaled Jacobian.
-void write_bezier_json(const std::string& path, const Result& r);
+/// How write_bezier_json stores each element's extraction operator (Params::json_operators).
+enum class JsonOperators { triplets, kronecker };
+
+/// bezier.json ("volts-bezier"): global functions (points, weights), per element its degrees,
+/// global function ids, extraction operator, status and min scaled Jacobian. Version 1 (triplets):
+/// the functions ascending, the operator's nonzeros as [row, column, value]. Version 2
+/// (kronecker): where the operator is a Kronecker product (kronecker_factors()) its three factors
+/// instead, as "kronecker": [K0, K1, K2], each (p+1)x(p+1) row-major, with the functions in the
+/// factors' order: C(i + n(j + n k), a + n(b + n c)) = K0(i,a) K1(j,b) K2(k,c), n = p + 1 —
+/// about 50 times smaller for cubics; elsewhere as version 1 (docs/formats.md).
+void write_bezier_json(const std::string& path, const Result& r, JsonOperators operators = JsonOperators::triplets);
+
+/// The three 1-D factors of an element's extraction operator `op` (rows: its functions in any
+/// order; columns: Bernstein functions, a + n(b + n c), n = degree + 1) if it is a Kronecker
+/// product: each factor with columns summing to one (the 1-D extraction operators), and in
+/// `order` (optional) the row of `op` of each tensor index i + n(j + n k). False unless the
+/// product reproduces every entry to 1e-14 of the largest (an element with a T-junction or
+/// smooth row among its functions is no product).
+bool kronecker_factors(const Eigen::SparseMatrix<double, Eigen::RowMajor>& op, int degree, std::array<Eigen::MatrixXd, 3>* factors,
+                       std::vector<int>* order = nullptr);
 
 /// Gmsh's node order of its Lagrange hexahedron of `order` 1..3 (element types 5, 12, 92), as
 /// lattice indices (i, j, k) in 0..order: node n sits at (i, j, k)/order of the [0,1]^3

@@ -40,6 +40,11 @@ struct Params {
   int dense_points = 7;
   bezier::CertifyParams certify;  ///< certification of det J > 0 per element (max_depth: subdivision levels)
   std::vector<std::string> exports = export_names();  ///< files volts-extract writes (names of export_names())
+  /// How bezier.json stores the extraction operators: "triplets" (version 1: every nonzero as
+  /// [row, column, value]) or "kronecker" (version 2: an element whose operator is a Kronecker
+  /// product of three 1-D operators — no T-junction or smooth row among its functions — as those
+  /// three (p+1)x(p+1) matrices, the others as triplets; write_bezier_json).
+  std::string json_operators = "triplets";
 };
 
 /// One Bézier element in the global basis.

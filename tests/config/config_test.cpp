@@ -115,6 +115,9 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_NE(config_error("extract: {dense_points: 17}\n").find("extract.dense_points"), std::string::npos);
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {h_refine: 2}\n", "t")), "emitted").tmesh.h_refine, 2);
   EXPECT_NE(config_error("tmesh: {h_refine: 4}\n").find("tmesh.h_refine"), std::string::npos);
+  EXPECT_EQ(file.extract.json_operators, extract::Params{}.json_operators);
+  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("extract: {json_operators: kronecker}\n", "t")), "emitted").extract.json_operators, "kronecker");
+  EXPECT_NE(config_error("extract: {json_operators: dense}\n").find("extract.json_operators"), std::string::npos);
   EXPECT_EQ(file.tmesh.pillow_splits, tmesh::Params{}.pillow_splits);
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {pillow_splits: 3}\n", "t")), "emitted").tmesh.pillow_splits, 3);
   for (const char* bad : {"tmesh: {pillow_splits: 0}\n", "tmesh: {pillow_splits: 9}\n", "tmesh: {pillow_splits: two}\n",

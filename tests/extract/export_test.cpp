@@ -9,6 +9,7 @@
 #include <vtkPNGReader.h>
 
 #include <filesystem>
+#include <random>
 #include <sstream>
 
 #include "common/test_util.h"
@@ -18,6 +19,7 @@
 #include "extract/export.h"
 #include "extract/readers.h"
 #include "extract/two_blocks.h"
+#include "tmesh/ring_cubes.h"
 
 namespace fs = std::filesystem;
 using namespace volts;
@@ -204,4 +206,107 @@ TEST_F(Exports, MshStillMergesItsNodesFarFromTheOrigin) {
     for (auto& p : h.points) p += Eigen::Vector3d(1e5, -2e5, 5e4);
   const std::string path = (dir / "far.msh").string();
   EXPECT_EQ(extract::write_gmsh(path, far), 13u * 7u * 7u);
+}
+
+// bezier.json version 2 (extract.json_operators kronecker): a ring of three cubes of levels 1, 2,
+// 1 has elements whose operators are Kronecker products (inside a block) and elements with
+// T-junction rows among their functions (at the level faces). Each is written as factors or as
+// triplets accordingly, and both decode to the operator global_basis made, to 1e-14.
+TEST(JsonOperators, KroneckerWhereTheOperatorIsAProductTripletsElsewhere) {
+  const fs::path d = test::fresh_dir("extract", "json_kronecker");
+  tmesh::Params p;
+  p.level = 1;
+  const auto ts = tmesh::build(test::ring(3), p, {1, 2, 1});
+  extract::Result r;
+  r.hexes = test::hexes(ts);
+  r.basis = extract::global_basis(ts, r.hexes);
+  r.degree = 3;
+  extract::write_bezier_json((d / "k.json").string(), r, extract::JsonOperators::kronecker);
+  extract::write_bezier_json((d / "t.json").string(), r, extract::JsonOperators::triplets);
+  const core::Json j = core::read_stage_file((d / "k.json").string(), "volts-bezier", 2);
+  EXPECT_EQ(j["version"], 2);
+  EXPECT_EQ(core::read_stage_file((d / "t.json").string(), "volts-bezier", 2)["version"], 1);
+  ASSERT_EQ(j["elements"].size(), r.basis.elements.size());
+  int products = 0, rows = 0;
+  for (std::size_t e = 0; e < r.basis.elements.size(); ++e) {
+    const auto& op = j["elements"][e]["operator"];
+    const Eigen::MatrixXd want(r.basis.elements[e].op);
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(op["rows"].get<int>(), op["columns"].get<int>());
+    // The functions: the same set; for a product, in the order of its factors' rows.
+    std::vector<int> functions = j["elements"][e]["functions"].get<std::vector<int>>(), sorted = functions;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(sorted, r.basis.elements[e].functions);
+    Eigen::MatrixXd want_rows = want;  // rows in the file's order of functions
+    for (std::size_t row = 0; row < functions.size(); ++row) {
+      const auto it = std::find(r.basis.elements[e].functions.begin(), r.basis.elements[e].functions.end(), functions[row]);
+      want_rows.row(static_cast<Eigen::Index>(row)) = want.row(it - r.basis.elements[e].functions.begin());
+    }
+    if (op.contains("kronecker")) {
+      ++products;
+      EXPECT_FALSE(op.contains("triplets"));
+      std::array<std::vector<double>, 3> k;
+      for (int f = 0; f < 3; ++f) k[static_cast<std::size_t>(f)] = op["kronecker"][static_cast<std::size_t>(f)].get<std::vector<double>>();
+      for (int row = 0; row < 64; ++row)
+        for (int col = 0; col < 64; ++col)
+          C(row, col) = k[0][static_cast<std::size_t>(4 * (row % 4) + col % 4)] * k[1][static_cast<std::size_t>(4 * (row / 4 % 4) + col / 4 % 4)] *
+                        k[2][static_cast<std::size_t>(4 * (row / 16) + col / 16)];
+    } else {
+      ++rows;
+      for (const auto& t : op["triplets"]) C(t[0].get<int>(), t[1].get<int>()) = t[2].get<double>();
+    }
+    ASSERT_EQ(C.rows(), want.rows());
+    EXPECT_LE((C - want_rows).cwiseAbs().maxCoeff(), 1e-14) << "element " << e;
+  }
+  EXPECT_GT(products, 0);
+  EXPECT_GT(rows, 0) << "no element with a T-junction row: the ring would not test the fallback";
+  EXPECT_LT(fs::file_size(d / "k.json"), fs::file_size(d / "t.json"));
+}
+
+TEST(JsonOperators, KroneckerFactorsAreFoundOnlyWhereTheyReproduceTheOperator) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.1, 1);
+  std::array<Eigen::MatrixXd, 3> f;
+  for (auto& m : f) {
+    m = Eigen::MatrixXd::NullaryExpr(4, 4, [&] { return u(rng); });
+    for (int a = 0; a < 4; ++a) m.col(a) /= m.col(a).sum();
+  }
+  Eigen::MatrixXd C(64, 64);
+  for (int row = 0; row < 64; ++row)
+    for (int col = 0; col < 64; ++col) C(row, col) = f[0](row % 4, col % 4) * f[1](row / 4 % 4, col / 4 % 4) * f[2](row / 16, col / 16);
+  // Rows in any order (the functions ascending by global id): shuffled, the factors and the row of
+  // each tensor index still give back every entry, and each factor is one of f's up to the order
+  // of its rows, with columns summing to one.
+  std::vector<int> perm(64);
+  for (int i = 0; i < 64; ++i) perm[static_cast<std::size_t>(i)] = i;
+  for (const bool shuffle : {false, true}) {
+    if (shuffle) std::shuffle(perm.begin(), perm.end(), rng);
+    Eigen::MatrixXd rows(64, 64);
+    for (int i = 0; i < 64; ++i) rows.row(i) = C.row(perm[static_cast<std::size_t>(i)]);
+    std::array<Eigen::MatrixXd, 3> k;
+    std::vector<int> order;
+    ASSERT_TRUE(extract::kronecker_factors(rows.sparseView(), 3, &k, &order)) << shuffle;
+    ASSERT_EQ(order.size(), 64u);
+    std::vector<int> seen = order;
+    std::sort(seen.begin(), seen.end());
+    for (int i = 0; i < 64; ++i) EXPECT_EQ(seen[static_cast<std::size_t>(i)], i);
+    double gap = 0;
+    for (int t = 0; t < 64; ++t)
+      for (int col = 0; col < 64; ++col)
+        gap = std::max(gap, std::abs(k[0](t % 4, col % 4) * k[1](t / 4 % 4, col / 4 % 4) * k[2](t / 16, col / 16) - rows(order[static_cast<std::size_t>(t)], col)));
+    EXPECT_LE(gap, 1e-14);
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_LE((k[static_cast<std::size_t>(d)].colwise().sum().array() - 1).abs().maxCoeff(), 1e-14);
+      for (int i = 0; i < 4; ++i) {
+        double best = 1;
+        for (int j = 0; j < 4; ++j) best = std::min(best, (k[static_cast<std::size_t>(d)].row(i) - f[static_cast<std::size_t>(d)].row(j)).cwiseAbs().maxCoeff());
+        EXPECT_LE(best, 1e-14) << "factor " << d << " row " << i;
+      }
+    }
+  }
+  std::array<Eigen::MatrixXd, 3> got;
+  Eigen::MatrixXd bent = C;
+  bent(5, 7) += 1e-10;
+  EXPECT_FALSE(extract::kronecker_factors(bent.sparseView(), 3, &got));
+  EXPECT_FALSE(extract::kronecker_factors(C.topRows(63).sparseView(), 3, &got));
+  EXPECT_FALSE(extract::kronecker_factors(C.sparseView(), 2, &got));
 }

@@ -16,6 +16,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -62,10 +63,33 @@ inline void expect_every_export_parses(const std::filesystem::path& work, bool g
   ASSERT_NE(inc, std::string::npos);
   EXPECT_NE(k.find("\nbezier.bext\n", inc), std::string::npos);
 
-  // bezier.json: the versioned file for users' own solvers.
-  const core::Json j = core::read_stage_file((work / "bezier.json").string(), "volts-bezier", 1);
+  // bezier.json: the versioned file for users' own solvers; either operator encoding (version 1:
+  // triplets; 2: Kronecker factors where the operator is a product) decodes to a partition of
+  // unity (every Bernstein column sums to one over the element's functions).
+  const core::Json j = core::read_stage_file((work / "bezier.json").string(), "volts-bezier", 2);
   EXPECT_EQ(static_cast<long>(j["elements"].size()), elements);
   EXPECT_EQ(j["global_functions"]["count"].get<long>(), functions);
+  double column_gap = 0;
+  for (const auto& el : j["elements"]) {
+    const auto& op = el["operator"];
+    const int rows = op["rows"].get<int>(), cols = op["columns"].get<int>();
+    EXPECT_EQ(static_cast<int>(el["functions"].size()), rows);
+    std::vector<double> sum(static_cast<std::size_t>(cols), 0.0);
+    if (op.contains("kronecker")) {
+      EXPECT_EQ(j["version"], 2);
+      const int n = el["degree"][0].get<int>() + 1;
+      std::array<std::vector<double>, 3> k;
+      for (std::size_t d = 0; d < 3; ++d) k[d] = op["kronecker"][d].get<std::vector<double>>();
+      for (int t = 0; t < rows; ++t)
+        for (int c = 0; c < cols; ++c)
+          sum[static_cast<std::size_t>(c)] += k[0][static_cast<std::size_t>(n * (t % n) + c % n)] * k[1][static_cast<std::size_t>(n * (t / n % n) + c / n % n)] *
+                                              k[2][static_cast<std::size_t>(n * (t / (n * n)) + c / (n * n))];
+    } else {
+      for (const auto& tr : op["triplets"]) sum[tr[1].get<std::size_t>()] += tr[2].get<double>();
+    }
+    for (const double x : sum) column_gap = std::max(column_gap, std::abs(x - 1));
+  }
+  EXPECT_LT(column_gap, 1e-12);
 
   // bezier.msh: Gmsh 4.1, one cubic Lagrange hexahedron (type 92) per element; gmsh accepts it.
   const Msh m = read_msh((work / "bezier.msh").string());

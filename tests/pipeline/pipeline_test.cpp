@@ -412,7 +412,7 @@ TEST(Pipeline, PillowSplitsThinTheLayerAlongTheSurfaceWithTheSameSpline) {
   // tests/tmesh/h_refine_test.cpp.)
   const fs::path d = test::fresh_dir("pipeline", "pillow_splits");
   test::write_text(d / "one.yaml", "input: {generate: torus, resolution: 24}\nextract: {exports: [vtu]}\n");
-  test::write_text(d / "three.yaml", "input: {generate: torus, resolution: 24}\ntmesh: {pillow_splits: 3}\n");
+  test::write_text(d / "three.yaml", "input: {generate: torus, resolution: 24}\ntmesh: {pillow_splits: 3}\nextract: {json_operators: kronecker}\n");
   const test::Outcome r1 = test::run(test::bin("volts") + " run " + (d / "one.yaml").string() + " --workdir " + (d / "one").string());
   ASSERT_EQ(r1.code, 0) << r1.output;
   fs::create_directories(d / "three");
@@ -434,7 +434,7 @@ TEST(Pipeline, PillowSplitsThinTheLayerAlongTheSurfaceWithTheSameSpline) {
   EXPECT_NEAR(x3["hausdorff_rel"].get<double>(), x1["hausdorff_rel"].get<double>(), 1e-12);
   EXPECT_NEAR(x3["volume_rel_error"].get<double>(), x1["volume_rel_error"].get<double>(), 1e-6);
   EXPECT_GT(x3["global_functions"].get<int>(), x1["global_functions"].get<int>());
-  test::expect_every_export_parses(d / "three", /*gmsh_check=*/false);
+  test::expect_every_export_parses(d / "three", /*gmsh_check=*/false);  // bezier.json version 2 (kronecker)
   test::write_text(d / "flat.yaml", "input: {generate: torus, resolution: 24}\ntmesh: {pillow_splits: 2, pillow_layers: 0}\n");
   const test::Outcome bad = test::run(test::bin("volts") + " run " + (d / "flat.yaml").string() + " --workdir " + (d / "flat").string());
   EXPECT_EQ(bad.code, 3) << bad.output;
