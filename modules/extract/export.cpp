@@ -11,6 +11,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <fstream>
 #include <sstream>
 #include <string_view>
 
@@ -24,11 +25,16 @@ namespace volts::extract {
 
 namespace {
 
-// The file's text built in memory (a few MB at most), then written atomically.
+// The file's text streamed to a temporary file renamed once complete (no copy in memory: the
+// rod's .bext with pillow_splits 3 is 64 MB).
 void write_stream(const std::string& path, const std::function<void(std::ostream&)>& fill) {
-  std::ostringstream out;
-  fill(out);
-  core::write_text_atomically(path, out.str());
+  core::write_atomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw core::IoError(path + ": cannot open for writing");
+    fill(out);
+    out.close();
+    if (!out) throw core::IoError(path + ": write failed (disk full?)");
+  });
 }
 
 // Fixed-width fields as in LS-DYNA's own .bext files: integers 8 wide (10 a line), reals 24 wide
@@ -281,14 +287,21 @@ bool kronecker_factors(const Eigen::SparseMatrix<double, Eigen::RowMajor>& op, i
   return true;
 }
 
-void write_bezier_json(const std::string& path, const Result& r, JsonOperators operators) {
+namespace {
+
+void write_bezier_json_to(std::ostream& file, const Result& r, JsonOperators operators) {
   const GlobalBasis& g = r.basis;
   const bool kronecker = operators == JsonOperators::kronecker;
-  // Keys in nlohmann's order (sorted), as core::write_stage_file writes them.
+  // Keys in nlohmann's order (sorted), as core::write_stage_file writes them. The text goes to the
+  // file in pieces of a few MB (the rod with pillow_splits 3: 892 MB in one string before).
+  constexpr std::size_t kPiece = std::size_t{8} << 20;
   std::string out;
-  std::size_t nonzeros = 0;
-  for (const auto& el : g.elements) nonzeros += static_cast<std::size_t>(el.op.nonZeros());
-  out.reserve((kronecker ? 0 : 32 * nonzeros) + 64 * g.points.size() + 1024 * g.elements.size());  // ~25 characters a triplet
+  out.reserve(kPiece + (std::size_t{1} << 20));
+  const auto flush = [&](bool always) {
+    if (!always && out.size() < kPiece) return;
+    file.write(out.data(), static_cast<std::streamsize>(out.size()));
+    out.clear();
+  };
   out += "{\"bernstein_order\":\"i + (p+1)*(j + (p+1)*k), as BezierHex and the .bext\",\"elements\":[";
   for (std::size_t e = 0; e < g.elements.size(); ++e) {
     const auto& el = g.elements[e];
@@ -339,6 +352,7 @@ void write_bezier_json(const std::string& path, const Result& r, JsonOperators o
     }
     if (e < r.status.size()) out += ",\"status\":", put_json(out, static_cast<long>(r.status[e]));
     out += '}';
+    flush(false);
   }
   out += "],\"format\":\"volts-bezier\",\"global_functions\":{\"count\":";
   put_json(out, static_cast<long>(g.points.size()));
@@ -347,6 +361,7 @@ void write_bezier_json(const std::string& path, const Result& r, JsonOperators o
     for (int d = 0; d < 3; ++d) {
       if (i || d) out += ',';
       put_json(out, g.points[i][d]);
+      flush(false);
     }
   out += "],\"weights\":[";
   for (std::size_t i = 0; i < g.weights.size(); ++i) {
@@ -354,7 +369,13 @@ void write_bezier_json(const std::string& path, const Result& r, JsonOperators o
     put_json(out, g.weights[i]);
   }
   out += "]},\"producer\":" + core::Json(core::producer()).dump() + ",\"version\":" + (kronecker ? "2" : "1") + "}\n";
-  core::write_text_atomically(path, out);
+  flush(true);
+}
+
+}  // namespace
+
+void write_bezier_json(const std::string& path, const Result& r, JsonOperators operators) {
+  write_stream(path, [&](std::ostream& file) { write_bezier_json_to(file, r, operators); });
 }
 
 // ---------------------------------------------------------------------------------------------
