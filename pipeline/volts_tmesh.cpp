@@ -55,10 +55,9 @@ core::Json worst_blocks(const std::vector<tmesh::TMesh>& ts, const tmesh::Optimi
   return out;
 }
 
-// The worst T-mesh element as a trilinear hex (eq. (1)-(2)), each split in 2^h per direction
-// first (the net h-refined by knot insertion); blocks in parallel.
-// The worst T-mesh element as a trilinear hex, each block's element spans split as `splits` says
-// (tmesh::refinement_splits; none: as they are).
+// The worst T-mesh element as a trilinear hex (eq. (1)-(2)), each block's element spans split as
+// `splits` says first (tmesh::refinement_splits: the net h-refined by knot insertion; none: as
+// they are); blocks in parallel.
 double min_corner_figure(const std::vector<tmesh::TMesh>& ts, const std::vector<tmesh::SpanSplits>* splits = nullptr) {
   std::vector<double> per(ts.size());
   core::parallel_for(ts.size(), [&](std::size_t b) { per[b] = splits ? tmesh::min_element_scaled_jacobian(ts[b], (*splits)[b]) : tmesh::min_element_scaled_jacobian(ts[b]); }, 1);
