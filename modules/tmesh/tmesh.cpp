@@ -1006,8 +1006,8 @@ std::vector<std::vector<int>> global_ids(const std::vector<TMesh>& ts, int* coun
   return ids;
 }
 
-// The spline at the corners of t's elements, each split in `splits` per direction, index
-// i + (n0+1)*(j + (n1+1)*k), and in n the number of (split) elements per direction.
+// The spline at the corners of t's elements, each span split as `splits` says (none: not split),
+// index i + (n0+1)*(j + (n1+1)*k), and in n the number of (split) elements per direction.
 std::vector<Vec3> corner_grid(const TMesh& t, std::array<int, 3>* n, const SpanSplits* splits = nullptr) {
   std::array<std::vector<double>, 3> g;
   for (std::size_t a = 0; a < 3; ++a) {
