@@ -210,13 +210,13 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
     if (params.continuity == "c2") {
       tmesh::ContinuityParams keep;
       keep.project = false;  // the same spline: rows only where it is C2 already
+      // The spline is C2 in the units of the uniform refinement; the pillow layer's further split
+      // makes its knot intervals there 1/pillow_splits of those.
+      if (params.pillow_splits > 1)
+        for (const auto& sp : splits)
+          keep.lengths.push_back({double(sp[0].size() << params.h_refine), double(sp[1].size() << params.h_refine), double(sp[2].size() << params.h_refine)});
       const tmesh::ContinuityResult c = tmesh::raise_continuity(ts, keep);
       core::log("on the refined net: " + std::to_string(c.lines) + " lines of control points C2 across " + std::to_string(c.faces) + " block faces");
-      // raise_continuity's rows assume equal knot intervals on both sides of a face; a split slab's
-      // are 1/pillow_splits of its neighbour's across their common face (the torus: 180 -> 36 lines).
-      if (params.pillow_splits > 1)
-        core::log_warning("tmesh.continuity c2 with pillow_splits " + std::to_string(params.pillow_splits) +
-                          ": faces between a split slab and an unsplit block keep a C0 basis (the spline is C2 there; the basis has more functions)");
       continuity["refined"] = continuity_json(c);
     }
   }

@@ -24,13 +24,16 @@ struct LineRows {
   std::array<double, 3> a{}, b{};
 };
 
-LineRows line_rows(int nA, int nB) {
+// The same from the interior knots of A (toward the face, which is at `ta`) and of B (from the
+// face on), in one parameter: unit intervals give line_rows(nA, nB) below.
+LineRows line_rows_on(const std::vector<double>& inner_a, double ta, const std::vector<double>& inner_b, double end) {
+  const int nA = static_cast<int>(inner_a.size()) + 1;
   std::vector<double> merged(4, 0.0), pair(4, 0.0);
-  for (int k = 1; k < nA + nB; ++k) {
-    merged.push_back(k);
-    for (int r = 0; r < (k == nA ? 3 : 1); ++r) pair.push_back(k);
-  }
-  for (int r = 0; r < 4; ++r) merged.push_back(nA + nB), pair.push_back(nA + nB);
+  for (const double k : inner_a) merged.push_back(k), pair.push_back(k);
+  merged.push_back(ta);
+  for (int r = 0; r < 3; ++r) pair.push_back(ta);
+  for (const double k : inner_b) merged.push_back(k), pair.push_back(k);
+  for (int r = 0; r < 4; ++r) merged.push_back(end), pair.push_back(end);
   const Eigen::MatrixXd M = bezier::refinement_matrix(merged, pair, 3).transpose();  // clamped points × merged points
   const int n = static_cast<int>(M.rows()), m = static_cast<int>(M.cols());
   const int extra_a = nA + 1, extra_b = nA + 3;
@@ -56,6 +59,27 @@ LineRows line_rows(int nA, int nB) {
     rows.a[static_cast<std::size_t>(at - refs)] = W(0, c), rows.b[static_cast<std::size_t>(at - refs)] = W(1, c);
   }
   return rows;
+}
+
+LineRows line_rows(int nA, int nB) {
+  std::vector<double> a, b;
+  for (int k = 1; k < nA; ++k) a.push_back(k);
+  for (int k = nA + 1; k < nA + nB; ++k) b.push_back(k);
+  return line_rows_on(a, nA, b, nA + nB);
+}
+
+// Interior knots of block t along `axis` in units of `length`, shifted by `start`, in the block's
+// own direction (`forward`) or reversed (u -> 1 - u).
+std::vector<double> inner_knots(const TMesh& t, int axis, double length, bool forward, double start) {
+  const std::vector<double>& k = t.knots[static_cast<std::size_t>(axis)];
+  std::vector<double> out;
+  for (std::size_t i = static_cast<std::size_t>(t.degree) + 1; i + static_cast<std::size_t>(t.degree) + 1 < k.size(); ++i) out.push_back(k[i]);
+  if (!forward) {
+    std::reverse(out.begin(), out.end());
+    for (double& x : out) x = 1.0 - x;
+  }
+  for (double& x : out) x = start + x * length;
+  return out;
 }
 
 std::size_t local_index(const TMesh& t, const std::array<int, 3>& idx) {
@@ -113,10 +137,18 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
       throw core::InvalidInputError("raise_continuity: block " + std::to_string(b) + " has no function ids (blocks must share their face points)");
     for (const int id : t.function_ids) nodes = std::max(nodes, id + 1);
   }
+  if (!params.lengths.empty()) {
+    if (params.lengths.size() != blocks.size())
+      throw core::InvalidInputError("raise_continuity: " + std::to_string(params.lengths.size()) + " block lengths for " + std::to_string(blocks.size()) + " blocks");
+    for (const auto& l : params.lengths)
+      for (const double x : l)
+        if (!(x > 0)) throw core::InvalidInputError("raise_continuity: a block length is not positive");
+  }
   std::vector<std::vector<std::pair<int, std::size_t>>> where(static_cast<std::size_t>(nodes));
   for (std::size_t b = 0; b < blocks.size(); ++b)
     for (std::size_t i = 0; i < blocks[b].function_ids.size(); ++i) where[static_cast<std::size_t>(blocks[b].function_ids[i])].push_back({static_cast<int>(b), i});
-  std::map<std::pair<int, int>, LineRows> rows_of;  // per (nA, nB)
+  using RowKey = std::vector<double>;  // (nA, nB) for unit intervals, else the knots across the face
+  std::map<RowKey, LineRows> rows_of;
   std::vector<Line> lines;
   std::vector<int> face_of_line;
   // Faces of two blocks of one level, neither with T-junctions.
@@ -131,8 +163,24 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
         A.size[u] * A.size[w] != B.size[(ab + 1) % 3] * B.size[(ab + 2) % 3])
       continue;
     const int nA = A.size[a] - 3, nB = B.size[ab] - 3;
-    auto it = rows_of.find({nA, nB});
-    if (it == rows_of.end()) it = rows_of.emplace(std::pair{nA, nB}, line_rows(nA, nB)).first;
+    // Knot intervals across the face in the spline's units (params.lengths): unit ones (the net as
+    // laid out or h-refined) give the rows of (nA, nB); others those of the knots themselves.
+    // A runs toward the face (at la), B away from it (from la on).
+    const double la = params.lengths.empty() ? nA : params.lengths[static_cast<std::size_t>(ba)][static_cast<std::size_t>(a)];
+    const double lb = params.lengths.empty() ? nB : params.lengths[static_cast<std::size_t>(bb)][static_cast<std::size_t>(ab)];
+    const std::vector<double> ka = inner_knots(A, a, la, fa % 2 == 1, 0.0), kb = inner_knots(B, ab, lb, fb % 2 == 0, la);
+    bool unit = params.lengths.empty() || (std::abs(la - nA) < 1e-12 && std::abs(lb - nB) < 1e-12);
+    for (std::size_t k = 0; unit && !params.lengths.empty() && k < ka.size(); ++k) unit = std::abs(ka[k] - static_cast<double>(k + 1)) < 1e-9;
+    for (std::size_t k = 0; unit && !params.lengths.empty() && k < kb.size(); ++k) unit = std::abs(kb[k] - static_cast<double>(nA + 1 + static_cast<int>(k))) < 1e-9;
+    const RowKey key = unit ? RowKey{{static_cast<double>(nA), static_cast<double>(nB)}} : RowKey{[&] {
+      std::vector<double> all = ka;
+      all.push_back(-1);  // separates A's knots from B's
+      all.insert(all.end(), kb.begin(), kb.end());
+      all.push_back(la), all.push_back(la + lb);
+      return all;
+    }()};
+    auto it = rows_of.find(key);
+    if (it == rows_of.end()) it = rows_of.emplace(key, unit ? line_rows(nA, nB) : line_rows_on(ka, la, kb, la + lb)).first;
     for (int j = params.margin; j < A.size[w] - params.margin; ++j)
       for (int i = params.margin; i < A.size[u] - params.margin; ++i) {
         auto in_a = [&](int d) {

@@ -12,6 +12,7 @@
 // docs/status.md "Session 39" has the plan.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "tmesh/tmesh.h"
@@ -27,6 +28,12 @@ struct ContinuityParams {
   /// along the line); false: only lines where the points lie on their rows already (to 1e-9 of
   /// the net's extent) get them — the h-refined net of a spline that is C2 there.
   bool project = true;
+  /// Optional: per block, per axis, the block's parameter length in the units the spline is C2 in
+  /// (knot intervals across a face are its knot intervals times this). Empty: the number of its
+  /// element spans, i.e. every element one unit — the net as laid out or h-refined. A net whose
+  /// pillow layer was split further (Params::pillow_splits) is C2 in the units of its uniform
+  /// refinement: its blocks' spans there before the split (refinement_splits()).
+  std::vector<std::array<double, 3>> lengths;
 };
 
 struct ContinuityResult {
@@ -50,7 +57,7 @@ std::vector<SharedFace> shared_faces(const std::vector<TMesh>& blocks);
 /// control point onto its row (the spline near the face changes: it is projected onto the C2
 /// splines along each line). Blocks need function_ids; degree 3 only.
 /// Throws core::ConfigError for another degree or margin out of range, core::InvalidInputError
-/// for blocks without function_ids.
+/// for blocks without function_ids or `lengths` not one positive triple per block.
 ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityParams& params = {});
 
 }  // namespace volts::tmesh

@@ -68,17 +68,19 @@ std::vector<Case> family() {
           {"ring of 3, pillow 1", [] { return ring_blocks(3, 3, 1); }}};
 }
 
-// The first and second derivatives, in index units (one element = 1), of block t's spline along
-// its axis `a` at the face `side` of the face centre, toward the face (exact: four points in the
-// element next to the face, where the spline is a cubic polynomial).
-std::pair<Eigen::Vector3d, Eigen::Vector3d> face_derivatives(const tmesh::TMesh& t, int a, int side) {
+// The first and second derivatives, in index units (one element = 1; or the block's parameter
+// `length` units along `a` when given, its elements alike), of block t's spline along its axis `a`
+// at the face `side` of the face centre, toward the face (exact: four points in the element next
+// to the face, where the spline is a cubic polynomial).
+std::pair<Eigen::Vector3d, Eigen::Vector3d> face_derivatives(const tmesh::TMesh& t, int a, int side, double length = 0) {
   const bezier::TensorBSplineVolume vol = test::volume(t);
   const int n = t.size[a] - t.degree;
-  const double h = 0.25;  // in index units: four points in the last element
+  const double units = length > 0 ? length : n;
+  const double h = 0.25 * units / n;  // four points in the last element
   Eigen::Vector3d f[4];
   for (int k = 0; k < 4; ++k) {
     Eigen::Vector3d uvw(0.5, 0.5, 0.5);
-    uvw[a] = side ? 1.0 - k * h / n : k * h / n;
+    uvw[a] = side ? 1.0 - k * h / units : k * h / units;
     f[k] = bezier::evaluate(vol, uvw);
   }
   // Along s toward the face, s = 0 on it and -k h at point k.
@@ -126,9 +128,10 @@ struct Jump {
   double d1 = 0, d2 = 0, scale = 0;
 };
 
-Jump jump(const std::vector<tmesh::TMesh>& ts, const Face& f) {
-  const auto [a1, a2] = face_derivatives(ts[static_cast<std::size_t>(f.ba)], f.fa / 2, f.fa % 2);
-  const auto [b1, b2] = face_derivatives(ts[static_cast<std::size_t>(f.bb)], f.fb / 2, f.fb % 2);
+Jump jump(const std::vector<tmesh::TMesh>& ts, const Face& f, const std::vector<std::array<double, 3>>* lengths = nullptr) {
+  auto length = [&](int b, int face) { return lengths ? (*lengths)[static_cast<std::size_t>(b)][static_cast<std::size_t>(face / 2)] : 0.0; };
+  const auto [a1, a2] = face_derivatives(ts[static_cast<std::size_t>(f.ba)], f.fa / 2, f.fa % 2, length(f.ba, f.fa));
+  const auto [b1, b2] = face_derivatives(ts[static_cast<std::size_t>(f.bb)], f.fb / 2, f.fb % 2, length(f.bb, f.fb));
   // B's "toward its face" is A's "away": the first derivatives are opposite, the second equal.
   return {(a1 + b1).norm(), (a2 - b2).norm(), a1.norm() + a2.norm()};
 }
@@ -244,6 +247,59 @@ TEST(Continuity, ANetThatIsC2AlreadyGetsTheSameRowsWithoutMoving) {
     const tmesh::ContinuityResult r0 = tmesh::raise_continuity(fresh, keep);
     EXPECT_LT(r0.lines, r.lines) << c.name;
   }
+}
+
+// The pillow layer split across the surface (tmesh.pillow_splits) leaves the spline C2 where it
+// was, with the slabs' knot intervals across the core's faces a fraction of the core's: given the
+// blocks' lengths in the uniform refinement's units the rows find every line the unsplit
+// refinement has (and more across the faces between slabs, whose points the split multiplies);
+// without them, unit intervals are assumed and those faces are lost.
+TEST(Continuity, PillowSplitsKeepTheirC2FacesGivenTheBlocksLengths) {
+  tmesh::PolycubeMaps m;
+  m.boundary = {{1, 1, 1, 1, 1, 1}};
+  m.physical = [](int, const Vec3& abc) { return twisted(abc); };
+  m.polycube = [](int, const Vec3& abc) { return abc; };
+  tmesh::Params p;
+  p.level = 2;
+  p.pillow_layers = 1;
+  std::vector<tmesh::TMesh> ts = tmesh::build(m, p);
+  ASSERT_GT(tmesh::raise_continuity(ts).lines, 0);
+  int unsplit = -1;
+  for (const int s : {1, 2, 3}) {
+    SCOPED_TRACE("pillow_splits " + std::to_string(s));
+    tmesh::Params q = p;
+    q.pillow_splits = s;
+    const auto splits = tmesh::refinement_splits(m, q, ts, 1);
+    std::vector<tmesh::TMesh> fine = tmesh::h_refine(m, q, ts, 1);
+    std::vector<tmesh::TMesh> blind = fine;
+    tmesh::ContinuityParams keep;
+    keep.project = false;
+    const tmesh::ContinuityResult without = tmesh::raise_continuity(blind, keep);
+    for (const auto& sp : splits) keep.lengths.push_back({2.0 * sp[0].size(), 2.0 * sp[1].size(), 2.0 * sp[2].size()});
+    const tmesh::ContinuityResult with = tmesh::raise_continuity(fine, keep);
+    if (s == 1) {
+      unsplit = with.lines;
+      EXPECT_EQ(without.lines, with.lines) << "unit intervals either way";
+    } else {
+      EXPECT_GE(with.lines, unsplit);
+      EXPECT_LT(without.lines, unsplit) << "the split slabs' faces were found without their lengths";
+    }
+    EXPECT_LT(off_rows(fine), 1e-9);
+    // C2 across every merged face's centre, in the units of the lengths.
+    const std::vector<Face> merged = merged_faces(fine);
+    EXPECT_FALSE(merged.empty());
+    for (const Face& f : merged) {
+      const Jump j = jump(fine, f, &keep.lengths);
+      EXPECT_LT(j.d1, 1e-8 * j.scale);
+      EXPECT_LT(j.d2, 1e-6 * j.scale);
+    }
+  }
+  EXPECT_GT(unsplit, 0);
+  tmesh::ContinuityParams bad;
+  bad.lengths = {{1.0, 1.0, 1.0}};
+  EXPECT_THROW(tmesh::raise_continuity(ts, bad), core::InvalidInputError);
+  bad.lengths.assign(ts.size(), {1.0, 0.0, 1.0});
+  EXPECT_THROW(tmesh::raise_continuity(ts, bad), core::InvalidInputError);
 }
 
 TEST(Continuity, TheOptimizerKeepsEveryConstrainedPointOnItsRow) {
