@@ -141,6 +141,9 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
     for (const int l : levels.level) ++per_level[l];
     std::string counts;
     for (const auto& [l, k] : per_level) counts += (counts.empty() ? "" : ", ") + std::to_string(k) + " at level " + std::to_string(l);
+    if (params.refine == "spans" && levels.knots_inserted > 0)
+      core::log("adaptive spans: " + std::to_string(levels.knots_inserted) + " knots inserted in " + std::to_string(levels.refined_blocks) + " blocks over " +
+                std::to_string(levels.refinements) + " round(s)");
     core::log("cubes: " + counts + " (adaptive levels: " + levels.stop + ", boundary deviation " + std::to_string(levels.deviation_rel) +
               " of the diagonal, epsilon_rel " + std::to_string(params.epsilon_rel) + ")");
   }
@@ -274,7 +277,8 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
                           [&] { after = tmesh::write_vtu(ctx.path("tmesh.vtu"), ts, extra); }});
   }
   core::Json fig = tmesh::report_figures(ts, before, after);
-  fig["levels"] = {{"stop", levels.stop}, {"refinements", levels.refinements}, {"refined_blocks", levels.refined_blocks}, {"cube_levels", levels.level},
+  fig["levels"] = {{"stop", levels.stop}, {"refinements", levels.refinements}, {"refined_blocks", levels.refined_blocks},
+                   {"refine", params.refine}, {"knots_inserted", levels.knots_inserted}, {"cube_levels", levels.level},
                    {"boundary_deviation_rel", levels.deviation_rel}, {"cube_deviation_rel", levels.cube_deviation_rel},
                    {"epsilon_rel", params.epsilon_rel}};
   // The Bézier elements' sampled scaled Jacobian around optimization (trilinear figures above).

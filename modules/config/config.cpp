@@ -252,7 +252,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("continuity", c.tmesh.continuity, {"c0", "c2"});
     if (c.tmesh.continuity == "c2" && c.tmesh.degree != 3)
       throw core::ConfigError(source + ": tmesh.continuity: c2 is for cubic splines (tmesh.degree 3), got degree " + std::to_string(c.tmesh.degree));
-    s.get("refine", c.tmesh.refine, {"boundary", "cube"});
+    s.get("refine", c.tmesh.refine, {"boundary", "cube", "spans"});
     s.finish();
   }
   {

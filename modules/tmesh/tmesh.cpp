@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include "bezier/bspline.h"
@@ -372,9 +373,10 @@ std::vector<TMesh> build_with(const PolycubeMaps& maps, const Params& params, co
         ok = std::all_of(here.begin(), here.end(), [&](int at) { return blocks_at[at] >= 2; });
       }
       if (!ok)
-        throw core::TopologyError("tmesh.pillow_splits: face " + std::to_string(f) + " of block " + std::to_string(b) + " (cube " +
-                                  std::to_string(blocks[b].component) + ", " + blocks[b].kind +
-                                  ") meets a block split otherwise: the pillow layer cannot be split there (use pillow_splits 1)");
+        throw core::TopologyError(std::string(params.pillow_splits > 1 ? "tmesh.pillow_splits" : "tmesh.refine spans") + ": face " + std::to_string(f) +
+                                  " of block " + std::to_string(b) + " (cube " + std::to_string(blocks[b].component) + ", " + blocks[b].kind +
+                                  ") meets a block split otherwise: " +
+                                  (params.pillow_splits > 1 ? "the pillow layer cannot be split there (use pillow_splits 1)" : "its spans cannot be split there"));
     }
   }
   std::map<int, Row> rows;
@@ -492,32 +494,317 @@ class BlockGrid {
   std::array<std::vector<bezier::BasisValues>, 3> basis_;
 };
 
-// Per block of ts: the largest distance at its boundary faces (0 without one), on a uniform grid
-// of `points` per element direction (corners included). Blocks in parallel: the distance is a
-// const query (an AABB tree).
-std::vector<double> block_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance, int points) {
-  std::vector<double> dev(ts.size(), 0.0);
+// Per block, for each face on the surface (2·axis + side), per element face (index i + n·j: i
+// along axis (axis+1)%3's spans, n their count, j along (axis+2)%3's): the largest distance, on
+// a uniform grid of `points` per element direction, corners included (a point on an element edge
+// counts for the elements on both sides), and the spline's bend along each of the two directions
+// (the largest second difference of the grid's points along it inside the element, ~ h²·|x''|:
+// what halving that direction's span divides by four). Empty for the other faces. Blocks in
+// parallel: the distance is a const query (an AABB tree).
+struct FaceDeviation {
+  std::array<std::vector<double>, 6> dev, bend_u, bend_v;
+};
+std::vector<FaceDeviation> element_face_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance, int points) {
+  std::vector<FaceDeviation> out(ts.size());
   core::parallel_for(ts.size(), [&](std::size_t b) {
     const TMesh& t = ts[b];
     if (!has_surface_face(t)) return;
     std::array<std::vector<double>, 3> g;
-    for (std::size_t a = 0; a < 3; ++a)
-      for (const auto& iv : bezier::element_intervals(t.knots[a], t.degree))
-        for (int i = g[a].empty() ? 0 : 1; i < points; ++i) g[a].push_back(iv[0] + (iv[1] - iv[0]) * i / (points - 1));
+    std::array<std::vector<std::array<std::size_t, 2>>, 3> owner;  // per abscissa: the first and last element it lies in
+    std::array<std::vector<char>, 3> inside;                       // per abscissa: strictly inside its element
+    std::array<std::size_t, 3> n{};
+    for (std::size_t a = 0; a < 3; ++a) {
+      const auto iv = bezier::element_intervals(t.knots[a], t.degree);
+      n[a] = iv.size();
+      for (std::size_t e = 0; e < iv.size(); ++e)
+        for (int i = e == 0 ? 0 : 1; i < points; ++i) {
+          g[a].push_back(iv[e][0] + (iv[e][1] - iv[e][0]) * i / (points - 1));
+          owner[a].push_back({e, i == points - 1 && e + 1 < iv.size() ? e + 1 : e});
+          inside[a].push_back(i > 0 && i < points - 1);
+        }
+    }
     const BlockGrid grid(t, g);
     for (int f = 0; f < 6; ++f) {
       if (!t.boundary[static_cast<std::size_t>(f)]) continue;
-      const std::size_t a = static_cast<std::size_t>(f / 2), u = (a + 1) % 3, v = (a + 2) % 3;
+      const std::size_t a = static_cast<std::size_t>(f / 2), u = (a + 1) % 3, v = (a + 2) % 3, fs = static_cast<std::size_t>(f);
+      std::vector<double>& d = out[b].dev[fs];
+      d.assign(n[u] * n[v], 0.0);
+      out[b].bend_u[fs].assign(n[u] * n[v], 0.0);
+      out[b].bend_v[fs].assign(n[u] * n[v], 0.0);
+      std::vector<Eigen::Vector3d> x(g[u].size() * g[v].size());  // the face's grid points, u fastest
       std::array<std::size_t, 3> at{};
       at[a] = f % 2 ? g[a].size() - 1 : 0;
       for (at[u] = 0; at[u] < g[u].size(); ++at[u])
         for (at[v] = 0; at[v] < g[v].size(); ++at[v]) {
-          dev[b] = std::max(dev[b], distance(grid.at(at[0], at[1], at[2])));
+          const Vec3 y = grid.at(at[0], at[1], at[2]);
+          x[at[u] + g[u].size() * at[v]] = Eigen::Vector3d(y[0], y[1], y[2]);
+          const double dist = distance(y);
+          for (std::size_t i = owner[u][at[u]][0]; i <= owner[u][at[u]][1]; ++i)
+            for (std::size_t j = owner[v][at[v]][0]; j <= owner[v][at[v]][1]; ++j) d[i + n[u] * j] = std::max(d[i + n[u] * j], dist);
+        }
+      const std::size_t su = 1, sv = g[u].size();
+      for (std::size_t q = 0; q < g[v].size(); ++q)
+        for (std::size_t p = 0; p < g[u].size(); ++p) {
+          const std::size_t k = p + sv * q;
+          for (std::size_t j = owner[v][q][0]; j <= owner[v][q][1]; ++j)
+            if (inside[u][p]) {
+              double& w = out[b].bend_u[fs][owner[u][p][0] + n[u] * j];
+              w = std::max(w, (x[k - su] - 2 * x[k] + x[k + su]).norm());
+            }
+          for (std::size_t i = owner[u][p][0]; i <= owner[u][p][1]; ++i)
+            if (inside[v][q]) {
+              double& w = out[b].bend_v[fs][i + n[u] * owner[v][q][0]];
+              w = std::max(w, (x[k - sv] - 2 * x[k] + x[k + sv]).norm());
+            }
         }
     }
   }, 1);
+  return out;
+}
+
+// Per block of ts: the largest distance at its boundary faces (0 without one), on
+// element_face_deviation's grid.
+std::vector<double> block_deviation(const std::vector<TMesh>& ts, const std::function<double(const Vec3&)>& distance, int points) {
+  std::vector<double> dev(ts.size(), 0.0);
+  const std::vector<FaceDeviation> faces = element_face_deviation(ts, distance, points);
+  for (std::size_t b = 0; b < ts.size(); ++b)
+    for (const std::vector<double>& f : faces[b].dev)
+      for (const double x : f) dev[b] = std::max(dev[b], x);
   return dev;
 }
+
+}  // namespace
+
+namespace {
+
+// Span splits across block faces (refinement_splits(), Params::refine "spans"): a face that two
+// blocks share corner to corner ties each of its two tangent directions on one side to the
+// matching direction on the other, so that both sides split its spans alike.
+struct Tie {
+  std::size_t b[2];
+  std::size_t axis[2];
+  bool flip;
+};
+
+// The ties of every face met corner to corner, found by the corners in polycube space (as
+// build() finds shared points), whatever the blocks' levels. Faces met in part (box_complex)
+// tie nothing: build_with checks those.
+std::vector<Tie> face_ties(const PolycubeMaps& maps, const std::vector<TMesh>& coarse) {
+  std::vector<std::array<Vec3, 8>> corner(coarse.size());
+  double extent = 1;
+  for (std::size_t b = 0; b < coarse.size(); ++b)
+    for (int c = 0; c < 8; ++c) {
+      corner[b][static_cast<std::size_t>(c)] = maps.polycube(coarse[b].component, block_point(coarse[b].corners, Vec3{double(c & 1), double((c >> 1) & 1), double(c >> 2)}));
+      for (const double v : corner[b][static_cast<std::size_t>(c)]) extent = std::max(extent, std::abs(v));
+    }
+  PointIds ids(1e-9 * extent);
+  std::map<std::array<int, 4>, std::vector<std::pair<std::size_t, int>>> faces;
+  std::vector<std::array<std::array<int, 4>, 6>> face_corners(coarse.size());
+  for (std::size_t b = 0; b < coarse.size(); ++b)
+    for (int f = 0; f < 6; ++f) {
+      const int ax = f / 2;
+      for (int k = 0; k < 4; ++k) {
+        std::array<int, 3> bit{};
+        bit[static_cast<std::size_t>(ax)] = f % 2, bit[static_cast<std::size_t>((ax + 1) % 3)] = k & 1, bit[static_cast<std::size_t>((ax + 2) % 3)] = k >> 1;
+        face_corners[b][static_cast<std::size_t>(f)][static_cast<std::size_t>(k)] = ids.id(corner[b][static_cast<std::size_t>(bit[0] + 2 * bit[1] + 4 * bit[2])]);
+      }
+      if (coarse[b].boundary[static_cast<std::size_t>(f)]) continue;
+      std::array<int, 4> key = face_corners[b][static_cast<std::size_t>(f)];
+      std::sort(key.begin(), key.end());
+      faces[key].push_back({b, f});
+    }
+  std::vector<Tie> ties;
+  for (const auto& [key, list] : faces) {
+    if (list.size() != 2) continue;
+    const auto [b0, f0] = list[0];
+    const auto [b1, f1] = list[1];
+    const FaceFrame fr = face_frame(face_corners[b0][static_cast<std::size_t>(f0)], face_corners[b1][static_cast<std::size_t>(f1)], b0, b1);
+    for (int d = 0; d < 2; ++d)
+      ties.push_back({{b0, b1},
+                      {static_cast<std::size_t>((f0 / 2 + 1 + d) % 3), static_cast<std::size_t>((f1 / 2 + 1 + fr.along[static_cast<std::size_t>(d)]) % 3)},
+                      fr.flip[static_cast<std::size_t>(d)] != 0});
+  }
+  return ties;
+}
+
+// Across every tie, each span splits alike on both sides (a finer side's r spans as the coarser
+// side's one): the largest count wins until every tie agrees. `what` names the caller in the
+// core::TopologyError thrown where span counts do not nest.
+void propagate_splits(const std::vector<Tie>& ties, std::vector<SpanSplits>& out, const std::string& what) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const Tie& t : ties) {
+      std::vector<int>& u = out[t.b[0]][t.axis[0]];
+      std::vector<int>& v = out[t.b[1]][t.axis[1]];
+      const std::size_t nu = u.size(), nv = v.size(), n = std::min(nu, nv), r = std::max(nu, nv) / n;
+      if (n == 0 || r * n != std::max(nu, nv))
+        throw core::TopologyError(what + ": blocks " + std::to_string(t.b[0]) + " and " + std::to_string(t.b[1]) + " meet with " +
+                                  std::to_string(nu) + " and " + std::to_string(nv) + " elements along one face direction");
+      // Span i of the side with n spans is spans r·i … r·i + r − 1 of the other, in u's direction.
+      for (std::size_t i = 0; i < n; ++i) {
+        auto at_v = [&](std::size_t j) { return t.flip ? nv - 1 - j : j; };
+        int m = 0;
+        for (std::size_t q = 0; q < nu / n; ++q) m = std::max(m, u[i * (nu / n) + q]);
+        for (std::size_t q = 0; q < nv / n; ++q) m = std::max(m, v[at_v(i * (nv / n) + q)]);
+        for (std::size_t q = 0; q < nu / n; ++q) changed |= std::exchange(u[i * (nu / n) + q], m) != m;
+        for (std::size_t q = 0; q < nv / n; ++q) changed |= std::exchange(v[at_v(i * (nv / n) + q)], m) != m;
+      }
+    }
+  }
+}
+
+// The knots of `t` with span s along axis a split in splits[a][s] equal parts; `up` (optional):
+// per axis, per span of the result, the span of `t` it lies in.
+std::array<std::vector<double>, 3> split_knots(const TMesh& t, const SpanSplits& splits, std::array<std::vector<int>, 3>* up = nullptr) {
+  std::array<std::vector<double>, 3> k;
+  for (std::size_t a = 0; a < 3; ++a) {
+    const std::vector<double>& c = t.knots[a];
+    int span = 0;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      k[a].push_back(c[i]);
+      if (i + 1 == c.size() || c[i + 1] <= c[i]) continue;
+      const int m = splits[a][static_cast<std::size_t>(span)];
+      for (int q = 1; q < m; ++q) k[a].push_back(c[i] + (c[i + 1] - c[i]) * q / m);
+      if (up)
+        for (int q = 0; q < m; ++q) (*up)[a].push_back(span);
+      ++span;
+    }
+  }
+  return k;
+}
+
+// Adaptive spans (Params::refine "spans"): where an element face on the surface deviates by more
+// than `tol`, its two spans along the surface are halved by knot insertion, and every span a block
+// face ties to them too (propagate_splits), so blocks still meet face to face on one level: no
+// T-junction, and each inserted knot runs on as a whole knot plane — the slab rule that keeps the
+// basis analysis-suitable (tspline/suitable.h: per-leaf octree refinement does not). Spans next
+// to each other differ by one halving at most (2:1 grading). Rounds until every face is within
+// `tol`, its spans were halved max_level − level times, or a round gains nothing (the input's
+// faceting: undone); blocks are rebuilt on the new knots by interpolating the volume map.
+// GCC 12 reports a free of a non-heap pointer in this function's vectors of SpanSplits at -O2
+// (a known false positive of -Wfree-nonheap-object on inlined vector destructors).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wfree-nonheap-object"
+std::vector<TMesh> refine_spans(const PolycubeMaps& maps, const Params& params, std::vector<TMesh> blocks, Levels& lv,
+                                std::vector<double>& block_dev) {
+  const double tol = params.epsilon_rel * maps.diagonal;
+  const int points = deviation_points(params), max_depth = params.max_level - params.level;
+  constexpr double kGain = 0.8;  // as the levels' (build()): a fifth closer at least
+  constexpr double kBend = 0.25;  // a direction bent a quarter as much as the other halves too
+  const std::size_t nb = blocks.size();
+  const std::vector<Tie> ties = face_ties(maps, blocks);
+  auto spans = [](const TMesh& t, std::size_t a) { return bezier::element_intervals(t.knots[a], t.degree).size(); };
+  std::vector<std::vector<int>> depth(3 * nb);  // per block b and axis a (3b + a), per span: halvings so far
+  std::size_t laid_out = 0;
+  for (std::size_t b = 0; b < nb; ++b)
+    for (std::size_t a = 0; a < 3; ++a) depth[3 * b + a].assign(spans(blocks[b], a), 0), laid_out += depth[3 * b + a].size();
+  std::vector<FaceDeviation> dev = element_face_deviation(blocks, maps.surface_distance, points);
+  std::vector<std::array<std::vector<char>, 6>> saturated(nb);
+  for (std::size_t b = 0; b < nb; ++b)
+    for (std::size_t f = 0; f < 6; ++f) saturated[b][f].assign(dev[b].dev[f].size(), 0);
+  std::vector<std::array<std::vector<double>, 3>> knots(nb);
+  std::vector<SpanSplits> up(nb);  // per block, axis, new span: the span it halves (or is)
+  for (;;) {
+    std::vector<SpanSplits> split(nb);
+    for (std::size_t b = 0; b < nb; ++b)
+      for (std::size_t a = 0; a < 3; ++a) split[b][a].assign(depth[3 * b + a].size(), 1);
+    bool any = false, capped = false, stuck = false;
+    for (std::size_t b = 0; b < nb; ++b)
+      for (std::size_t f = 0; f < 6; ++f) {
+        const std::size_t u = (f / 2 + 1) % 3, v = (f / 2 + 2) % 3, nu = depth[3 * b + u].size();
+        for (std::size_t e = 0; e < dev[b].dev[f].size(); ++e) {
+          if (!(dev[b].dev[f][e] > tol)) continue;
+          if (saturated[b][f][e]) {
+            stuck = true;
+            continue;
+          }
+          // The directions whose bend is at least kBend of the larger: a face curved one way (a
+          // cylinder's) halves that way only.
+          const double bu = dev[b].bend_u[f][e], bv = dev[b].bend_v[f][e], top = std::max(bu, bv);
+          for (const auto& [axis, span, bend] : {std::tuple{u, e % nu, bu}, std::tuple{v, e / nu, bv}}) {
+            if (!(bend >= kBend * top)) continue;
+            if (depth[3 * b + axis][span] < max_depth) split[b][axis][span] = 2, any = true;
+            else capped = true;
+          }
+        }
+      }
+    if (!any) {
+      lv.stop = capped ? "max_level" : stuck ? "no_gain" : "within_epsilon";
+      break;
+    }
+    // Ties and 2:1 grading until both hold; a span halved by either keeps within max_depth, since
+    // tied spans have one depth and grading only follows a deeper neighbour.
+    for (bool graded = false; !graded;) {
+      propagate_splits(ties, split, "tmesh.refine spans");
+      graded = true;
+      for (std::size_t b = 0; b < nb; ++b)
+        for (std::size_t a = 0; a < 3; ++a)
+          for (std::size_t i = 0; i + 1 < depth[3 * b + a].size(); ++i) {
+            const int d0 = depth[3 * b + a][i] + (split[b][a][i] > 1), d1 = depth[3 * b + a][i + 1] + (split[b][a][i + 1] > 1);
+            if (d0 > d1 + 1) split[b][a][i + 1] = 2, graded = false;
+            if (d1 > d0 + 1) split[b][a][i] = 2, graded = false;
+          }
+    }
+    for (std::size_t b = 0; b < nb; ++b) up[b] = {}, knots[b] = split_knots(blocks[b], split[b], &up[b]);
+    std::vector<TMesh> next;
+    try {
+      next = build_with(maps, params, [&](std::size_t, std::size_t, bool) { return params.level; }, &knots);
+    } catch (const core::TopologyError& e) {
+      core::log_warning(std::string("tmesh: adaptive spans stop: ") + e.what());
+      lv.stop = "not_face_to_face";  // `blocks` are still the last conforming ones
+      break;
+    }
+    std::vector<FaceDeviation> next_dev = element_face_deviation(next, maps.surface_distance, points);
+    // A face halved for its own deviation gained if it is within tol now or a fifth closer; one
+    // that did not is saturated, and so are the faces in a saturated one.
+    bool gained = false;
+    std::vector<std::array<std::vector<char>, 6>> next_saturated(nb);
+    for (std::size_t b = 0; b < nb; ++b)
+      for (std::size_t f = 0; f < 6; ++f) {
+        next_saturated[b][f].assign(next_dev[b].dev[f].size(), 0);
+        const std::size_t u = (f / 2 + 1) % 3, v = (f / 2 + 2) % 3, nu = up[b][u].size(), pnu = depth[3 * b + u].size();
+        for (std::size_t e = 0; e < next_dev[b].dev[f].size(); ++e) {
+          const std::size_t pi = static_cast<std::size_t>(up[b][u][e % nu]), pj = static_cast<std::size_t>(up[b][v][e / nu]), pe = pi + pnu * pj;
+          if (saturated[b][f][pe]) {
+            next_saturated[b][f][e] = 1;
+            continue;
+          }
+          if (!(dev[b].dev[f][pe] > tol) || (split[b][u][pi] == 1 && split[b][v][pj] == 1)) continue;
+          if (next_dev[b].dev[f][e] <= tol || next_dev[b].dev[f][e] <= kGain * dev[b].dev[f][pe]) gained = true;
+          else next_saturated[b][f][e] = 1;
+        }
+      }
+    if (!gained) {  // the round bought elements and no accuracy: undone
+      lv.stop = "no_gain";
+      break;
+    }
+    for (std::size_t b = 0; b < nb; ++b)
+      for (std::size_t a = 0; a < 3; ++a) {
+        std::vector<int> d;
+        for (const int p : up[b][a]) d.push_back(depth[3 * b + a][static_cast<std::size_t>(p)] + (split[b][a][static_cast<std::size_t>(p)] > 1));
+        depth[3 * b + a] = std::move(d);
+      }
+    blocks = std::move(next), dev = std::move(next_dev), saturated = std::move(next_saturated);
+    ++lv.refinements;
+  }
+  std::size_t now = 0;
+  lv.refined_blocks = 0;
+  for (std::size_t b = 0; b < nb; ++b) {
+    bool refined = false;
+    for (std::size_t a = 0; a < 3; ++a) {
+      now += depth[3 * b + a].size();
+      refined = refined || std::any_of(depth[3 * b + a].begin(), depth[3 * b + a].end(), [](int d) { return d > 0; });
+    }
+    lv.refined_blocks += refined ? 1 : 0;
+  }
+  lv.knots_inserted = static_cast<int>(now - laid_out);
+  block_dev.assign(nb, 0.0);
+  for (std::size_t b = 0; b < nb; ++b)
+    for (const std::vector<double>& f : dev[b].dev)
+      for (const double x : f) block_dev[b] = std::max(block_dev[b], x);
+  return blocks;
+}
+#pragma GCC diagnostic pop
 
 }  // namespace
 
@@ -538,7 +825,8 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
   if (!(params.epsilon_rel >= 0 && params.epsilon_rel <= 1))
     throw core::ConfigError("tmesh.epsilon_rel must be in [0, 1], got " + std::to_string(params.epsilon_rel));
   if (params.max_level < 1 || params.max_level > 7) throw core::ConfigError("tmesh.max_level must be in [1, 7], got " + std::to_string(params.max_level));
-  if (params.refine != "boundary" && params.refine != "cube") throw core::ConfigError("tmesh.refine must be boundary or cube, got '" + params.refine + "'");
+  if (params.refine != "boundary" && params.refine != "cube" && params.refine != "spans")
+    throw core::ConfigError("tmesh.refine must be boundary, cube or spans, got '" + params.refine + "'");
   const std::size_t cubes = maps.blocks.empty() ? maps.boundary.size() : maps.blocks.size();
   Levels lv;
   lv.level.assign(cubes, params.level);
@@ -564,7 +852,11 @@ std::vector<TMesh> build(const PolycubeMaps& maps, const Params& params, Levels*
     lv.deviation_rel = lv.cube_deviation_rel.empty() ? 0.0 : *std::max_element(lv.cube_deviation_rel.begin(), lv.cube_deviation_rel.end());
   };
   if (measure && !adaptive) record(block_deviation(blocks, maps.surface_distance, deviation_points(params)));
-  if (adaptive) {
+  if (adaptive && params.refine == "spans") {
+    std::vector<double> dev;
+    blocks = refine_spans(maps, params, std::move(blocks), lv, dev);
+    record(dev);
+  } else if (adaptive) {
     const double tol = params.epsilon_rel * maps.diagonal;
     std::vector<int> level(nb, params.level);
     auto build_levels = [&](const std::vector<int>& l) {
@@ -667,69 +959,7 @@ std::vector<SpanSplits> refinement_splits(const PolycubeMaps& maps, const Params
                                                  (1 << times) * (a == axis ? params.pillow_splits : 1));
   }
   if (params.pillow_splits == 1) return out;
-  // Faces met corner to corner, found by their corners in polycube space (as build() finds shared
-  // points), whatever the blocks' levels.
-  std::vector<std::array<Vec3, 8>> corner(coarse.size());
-  double extent = 1;
-  for (std::size_t b = 0; b < coarse.size(); ++b)
-    for (int c = 0; c < 8; ++c) {
-      corner[b][static_cast<std::size_t>(c)] = maps.polycube(coarse[b].component, block_point(coarse[b].corners, Vec3{double(c & 1), double((c >> 1) & 1), double(c >> 2)}));
-      for (const double v : corner[b][static_cast<std::size_t>(c)]) extent = std::max(extent, std::abs(v));
-    }
-  PointIds ids(1e-9 * extent);
-  std::map<std::array<int, 4>, std::vector<std::pair<std::size_t, int>>> faces;
-  std::vector<std::array<std::array<int, 4>, 6>> face_corners(coarse.size());
-  for (std::size_t b = 0; b < coarse.size(); ++b)
-    for (int f = 0; f < 6; ++f) {
-      const int ax = f / 2;
-      for (int k = 0; k < 4; ++k) {
-        std::array<int, 3> bit{};
-        bit[static_cast<std::size_t>(ax)] = f % 2, bit[static_cast<std::size_t>((ax + 1) % 3)] = k & 1, bit[static_cast<std::size_t>((ax + 2) % 3)] = k >> 1;
-        face_corners[b][static_cast<std::size_t>(f)][static_cast<std::size_t>(k)] = ids.id(corner[b][static_cast<std::size_t>(bit[0] + 2 * bit[1] + 4 * bit[2])]);
-      }
-      if (coarse[b].boundary[static_cast<std::size_t>(f)]) continue;
-      std::array<int, 4> key = face_corners[b][static_cast<std::size_t>(f)];
-      std::sort(key.begin(), key.end());
-      faces[key].push_back({b, f});
-    }
-  // Across a face, each tangent direction's spans split alike on both sides (a finer side's r
-  // spans as the coarser side's one): the largest count wins until every face agrees.
-  struct Tie {
-    std::size_t b[2];
-    std::size_t axis[2];
-    bool flip;
-  };
-  std::vector<Tie> ties;
-  for (const auto& [key, list] : faces) {
-    if (list.size() != 2) continue;  // met in part (box_complex): build_with checks those
-    const auto [b0, f0] = list[0];
-    const auto [b1, f1] = list[1];
-    const FaceFrame fr = face_frame(face_corners[b0][static_cast<std::size_t>(f0)], face_corners[b1][static_cast<std::size_t>(f1)], b0, b1);
-    for (int d = 0; d < 2; ++d)
-      ties.push_back({{b0, b1},
-                      {static_cast<std::size_t>((f0 / 2 + 1 + d) % 3), static_cast<std::size_t>((f1 / 2 + 1 + fr.along[static_cast<std::size_t>(d)]) % 3)},
-                      fr.flip[static_cast<std::size_t>(d)] != 0});
-  }
-  for (bool changed = true; changed;) {
-    changed = false;
-    for (const Tie& t : ties) {
-      std::vector<int>& u = out[t.b[0]][t.axis[0]];
-      std::vector<int>& v = out[t.b[1]][t.axis[1]];
-      const std::size_t nu = u.size(), nv = v.size(), n = std::min(nu, nv), r = std::max(nu, nv) / n;
-      if (n == 0 || r * n != std::max(nu, nv))
-        throw core::TopologyError("tmesh.pillow_splits: blocks " + std::to_string(t.b[0]) + " and " + std::to_string(t.b[1]) + " meet with " +
-                                  std::to_string(nu) + " and " + std::to_string(nv) + " elements along one face direction");
-      // Span i of the side with n spans is spans r·i … r·i + r − 1 of the other, in u's direction.
-      for (std::size_t i = 0; i < n; ++i) {
-        auto at_v = [&](std::size_t j) { return t.flip ? nv - 1 - j : j; };
-        int m = 0;
-        for (std::size_t q = 0; q < nu / n; ++q) m = std::max(m, u[i * (nu / n) + q]);
-        for (std::size_t q = 0; q < nv / n; ++q) m = std::max(m, v[at_v(i * (nv / n) + q)]);
-        for (std::size_t q = 0; q < nu / n; ++q) changed |= std::exchange(u[i * (nu / n) + q], m) != m;
-        for (std::size_t q = 0; q < nv / n; ++q) changed |= std::exchange(v[at_v(i * (nv / n) + q)], m) != m;
-      }
-    }
-  }
+  propagate_splits(face_ties(maps, coarse), out, "tmesh.pillow_splits");
   return out;
 }
 
@@ -748,24 +978,13 @@ std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, cons
   }
   // The structure (knots, ids, T-junction rows) is build()'s at every block's level + times; its
   // positions are not needed, so the physical map is the identity (no point location). With
-  // pillow_splits the knots are the coarse ones with every span split as refinement_splits() says.
+  // pillow_splits, or spans refined one by one (Params::refine "spans"), the knots are the coarse
+  // ones with every span split as refinement_splits() says.
   std::vector<std::array<std::vector<double>, 3>> knots;
-  if (params.pillow_splits > 1) {
+  const bool on_knots = params.pillow_splits > 1 || params.refine == "spans";
+  if (on_knots) {
     const std::vector<SpanSplits> splits = refinement_splits(maps, params, coarse, times);
-    for (std::size_t b = 0; b < coarse.size(); ++b) {
-      std::array<std::vector<double>, 3> k;
-      for (std::size_t a = 0; a < 3; ++a) {
-        const std::vector<double>& c = coarse[b].knots[a];
-        std::size_t span = 0;
-        for (std::size_t i = 0; i < c.size(); ++i) {
-          k[a].push_back(c[i]);
-          if (i + 1 == c.size() || c[i + 1] <= c[i]) continue;
-          const int m = splits[b][a][span++];
-          for (int q = 1; q < m; ++q) k[a].push_back(c[i] + (c[i + 1] - c[i]) * q / m);
-        }
-      }
-      knots.push_back(std::move(k));
-    }
+    for (std::size_t b = 0; b < coarse.size(); ++b) knots.push_back(split_knots(coarse[b], splits[b]));
   }
   PolycubeMaps structure = maps;
   structure.physical = [](int, const Vec3& x) { return x; };
@@ -778,7 +997,7 @@ std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, cons
     if (b >= coarse.size() || coarse[b].component != static_cast<int>(k))
       throw core::InvalidInputError("tmesh h-refinement: the T-mesh's blocks are not those of its polycube (cube " + std::to_string(k) + ", block " + std::to_string(j) + ")");
     return coarse[b].level + times;
-  }, params.pillow_splits > 1 ? &knots : nullptr);
+  }, on_knots ? &knots : nullptr);
   if (fine.size() != coarse.size())
     throw core::InvalidInputError("tmesh h-refinement: " + std::to_string(coarse.size()) + " blocks, but the polycube has " + std::to_string(fine.size()));
   // Positions: each block's fine points are the knot-insertion refinement of its coarse points,

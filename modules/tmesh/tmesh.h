@@ -11,9 +11,12 @@
 // input surface by more than ε, with 2:1 balance between cubes; where levels differ across a
 // block face the finer side's control points there are T-junctions, the knot-insertion
 // combinations of the coarser side's (TMesh::constraints), so the spline is C0 there and its
-// basis a partition of unity. The octree T-spline inside a cube (modules/octree, modules/tspline
-// exist, not wired) is not done yet (issue 7); sharp curves inside a face become block faces only
-// on tori (polycube.sharp_lines, off by default).
+// basis a partition of unity. Per element (Params::refine "spans"): the spans along the surface of
+// each deviating element face are halved by knot insertion and the halving runs on across block
+// faces as whole knot planes — the slab rule under which an octree T-spline is analysis-suitable
+// (tspline/suitable.h), so no T-junction. A per-leaf octree T-spline inside a cube
+// (modules/octree, modules/tspline) is not wired; sharp curves inside a face become block faces
+// only on tori (polycube.sharp_lines, off by default).
 #pragma once
 
 #include <array>
@@ -102,8 +105,11 @@ struct Params {
   int max_level = 4;
   /// What adaptivity refines: "boundary" (the blocks with a face on the surface — the pillow
   /// slabs, the boundary elements of §5.1 — each by its own deviation, with the surface blocks of
-  /// its cube that share an edge with it, the others only as 2:1 asks) or "cube" (every block of
-  /// a cube one level, its finest).
+  /// its cube that share an edge with it, the others only as 2:1 asks), "cube" (every block of
+  /// a cube one level, its finest) or "spans" (per element: the two spans along the surface of
+  /// each element face that deviates are halved, and every span tied to them across block faces,
+  /// each knot a whole knot plane — no T-junctions, analysis-suitable by the slab rule; adjacent
+  /// spans at most 2:1; max_level bounds the halvings at max_level − level).
   std::string refine = "boundary";
   /// h-refinement after optimization (h_refine()): every element split in eight this many times
   /// by knot insertion — the same spline (geometry, Jacobian, validity) on 8^h_refine times the
@@ -198,7 +204,9 @@ struct Levels {
   int refined_blocks = 0;  ///< blocks finer than Params::level
   std::vector<double> cube_deviation_rel;  ///< per cube, relative to the diagonal (empty without a surface_distance)
   double deviation_rel = 0;
-  int refinements = 0;  ///< rounds of refinement run (each raised some cube one level)
+  int refinements = 0;  ///< rounds of refinement run (each raised some cube one level, or halved some spans)
+  /// Params::refine "spans": knots inserted, summed over blocks and axes (0 otherwise).
+  int knots_inserted = 0;
   /// "within_epsilon", "max_level", "disabled", "no_gain" (a level did not lower a cube's
   /// deviation by a fifth: the input's faceting, not the spline; a round where no cube gained is
   /// undone) or "not_face_to_face" (a level would break conformity; the last conforming one kept)

@@ -103,6 +103,7 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_NE(config_error("tmesh: {max_level: 8}\n").find("tmesh.max_level"), std::string::npos);
   EXPECT_EQ(file.tmesh.refine, tmesh::Params{}.refine);
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {refine: cube}\n", "t")), "emitted").tmesh.refine, "cube");
+  EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {refine: spans}\n", "t")), "emitted").tmesh.refine, "spans");
   EXPECT_NE(config_error("tmesh: {refine: all}\n").find("tmesh.refine"), std::string::npos);
   EXPECT_EQ(file.tmesh.h_refine, tmesh::Params{}.h_refine);
   EXPECT_EQ(file.extract.dense_points, extract::Params{}.dense_points);

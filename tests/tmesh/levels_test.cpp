@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bezier/bspline.h"
 #include "bezier/bspline_volume.h"
 #include "core/errors.h"
 #include "extract/extract.h"
@@ -26,6 +27,41 @@ using tmesh::Vec3;
 
 using namespace volts::test;
 
+
+// The largest gap between the splines of neighbouring blocks at their common faces, on grids of
+// the faces: between cubes (cube c's face a = 1 against cube c+1's face a = 0) and inside them
+// (every inner block face against the blocks of its cube that hold its points). `scale`: the
+// largest distance from the origin seen; `level_pairs`: points compared across blocks of two levels.
+double face_gap(const std::vector<tmesh::TMesh>& ts, int k, double* scale, int* level_pairs) {
+  double gap = 0;
+  *scale = 0, *level_pairs = 0;
+  for (int c = 0; c < k; ++c)
+    for (int i = 0; i <= 12; ++i)
+      for (int j = 0; j <= 12; ++j) {
+        const double b = i / 12.0, h = j / 12.0;
+        const Eigen::Vector3d x0 = spline_at(ts, c, {1, b, h}), x1 = spline_at(ts, (c + 1) % k, {0, b, h});
+        gap = std::max(gap, (x0 - x1).norm()), *scale = std::max(*scale, x0.norm());
+      }
+  for (const auto& t : ts)
+    for (int f = 0; f < 6; ++f) {
+      if (t.boundary[static_cast<std::size_t>(f)]) continue;
+      for (int i = 0; i <= 6; ++i)
+        for (int j = 0; j <= 6; ++j) {
+          Vec3 uvw;
+          uvw[static_cast<std::size_t>(f / 2)] = f % 2;
+          uvw[static_cast<std::size_t>((f / 2 + 1) % 3)] = i / 6.0, uvw[static_cast<std::size_t>((f / 2 + 2) % 3)] = j / 6.0;
+          const Vec3 x = tmesh::block_point(t.corners, uvw);
+          const Eigen::Vector3d xt = bezier::evaluate(volume(t), Eigen::Vector3d(uvw[0], uvw[1], uvw[2]));
+          for (const auto& u : ts) {
+            Vec3 w;
+            if (&u == &t || u.component != t.component || !block_params(u.corners, x, &w)) continue;
+            gap = std::max(gap, (bezier::evaluate(volume(u), Eigen::Vector3d(w[0], w[1], w[2])) - xt).norm());
+            if (u.level != t.level) ++*level_pairs;
+          }
+        }
+    }
+  return gap;
+}
 
 // Cubes of levels 3 and 4 in turn (and 3, 4, 5 with an odd count): across every face between
 // cubes both splines are one surface, the global basis is a partition of unity whose extraction
@@ -42,35 +78,9 @@ TEST(Levels, SplinesAreC0AndAPartitionOfUnityWhereLevelsDiffer) {
       if (k % 2) levels.back() = 4;  // three levels around the ring: 2, 3, ..., 4 next to 3 and 2 (2:1 broken on purpose at the seam)
       const tmesh::PolycubeMaps maps = ring(k);
       const auto ts = tmesh::build(maps, p, levels);
-      // C0 between cubes: cube c's face a = 1 against cube c+1's face a = 0, on a grid of the face.
-      double gap = 0, scale = 0;
-      for (int c = 0; c < k; ++c)
-        for (int i = 0; i <= 12; ++i)
-          for (int j = 0; j <= 12; ++j) {
-            const double b = i / 12.0, h = j / 12.0;
-            const Eigen::Vector3d x0 = spline_at(ts, c, {1, b, h}), x1 = spline_at(ts, (c + 1) % k, {0, b, h});
-            gap = std::max(gap, (x0 - x1).norm()), scale = std::max(scale, x0.norm());
-          }
-      // C0 inside cubes: every inner block face against the blocks of its cube that hold its points.
+      double scale = 0;
       int pairs = 0;
-      for (const auto& t : ts)
-        for (int f = 0; f < 6; ++f) {
-          if (t.boundary[static_cast<std::size_t>(f)]) continue;
-          for (int i = 0; i <= 6; ++i)
-            for (int j = 0; j <= 6; ++j) {
-              Vec3 uvw;
-              uvw[static_cast<std::size_t>(f / 2)] = f % 2;
-              uvw[static_cast<std::size_t>((f / 2 + 1) % 3)] = i / 6.0, uvw[static_cast<std::size_t>((f / 2 + 2) % 3)] = j / 6.0;
-              const Vec3 x = tmesh::block_point(t.corners, uvw);
-              const Eigen::Vector3d xt = bezier::evaluate(volume(t), Eigen::Vector3d(uvw[0], uvw[1], uvw[2]));
-              for (const auto& u : ts) {
-                Vec3 w;
-                if (&u == &t || u.component != t.component || !block_params(u.corners, x, &w)) continue;
-                gap = std::max(gap, (bezier::evaluate(volume(u), Eigen::Vector3d(w[0], w[1], w[2])) - xt).norm());
-                if (u.level != t.level) ++pairs;
-              }
-            }
-        }
+      const double gap = face_gap(ts, k, &scale, &pairs);
       EXPECT_LE(gap, 1e-12 * scale) << "the splines of neighbouring blocks part at their common face";
       if (refine == "boundary") {
         EXPECT_GT(pairs, 0) << "no block face between levels inside a cube";
@@ -353,4 +363,129 @@ TEST(Levels, OptimizationMovesTheNodesOfJunctionRowsAndKeepsTheRows) {
       for (int j = 0; j <= 8; ++j)
         gap = std::max(gap, (spline_at(ts, c, {1, i / 8.0, j / 8.0}) - spline_at(ts, (c + 1) % k, {0, i / 8.0, j / 8.0})).norm());
   EXPECT_LE(gap, 1e-11);
+}
+
+// Spans (Params::refine "spans"), per element face: cube 0's sector of the ring deviates (its
+// distance scaled by 1e6), so the spans along the ring are halved there and nowhere else, down to
+// max_level; blocks stay on one level and meet face to face (no T-junction, C0, a partition of
+// unity); adjacent spans at most 2:1; fewer elements than the per-block levels for the same ε.
+TEST(Levels, SpansHalveTheDeviatingSpansAloneAndMeetFaceToFace) {
+  for (int k = 4; k <= 6; ++k) {
+    SCOPED_TRACE("ring of " + std::to_string(k) + " cubes");
+    const tmesh::PolycubeMaps maps = ring_far_at_cube0(k);
+    tmesh::Params p;
+    p.level = 1;
+    p.max_level = 4;
+    p.epsilon_rel = 0.01;
+    p.h_refine = 0;
+    p.refine = "spans";
+    tmesh::Levels lv;
+    const auto ts = tmesh::build(maps, p, &lv);
+    const auto laid = tmesh::build(maps, p, std::vector<int>(static_cast<std::size_t>(k), 1));
+    ASSERT_EQ(ts.size(), laid.size());
+    EXPECT_EQ(lv.stop, "max_level");
+    EXPECT_EQ(lv.level, std::vector<int>(static_cast<std::size_t>(k), 1));
+    EXPECT_GT(lv.refinements, 0);
+    int inserted = 0, inserted_cube0_ring = 0;
+    for (std::size_t b = 0; b < ts.size(); ++b) {
+      EXPECT_EQ(ts[b].level, 1);
+      EXPECT_TRUE(ts[b].constraints.empty());
+      for (std::size_t a = 0; a < 3; ++a) {
+        const auto spans = bezier::element_intervals(ts[b].knots[a], ts[b].degree);
+        const double laid_out = 1.0 / static_cast<double>(bezier::element_intervals(laid[b].knots[a], laid[b].degree).size());
+        const int more = static_cast<int>(ts[b].knots[a].size()) - static_cast<int>(laid[b].knots[a].size());
+        inserted += more;
+        if (a == 0 && ts[b].component == 0) inserted_cube0_ring += more;
+        if (a == 0 && ts[b].component != 0) {
+          EXPECT_EQ(ts[b].knots[a], laid[b].knots[a]) << "block " << b << " is refined along the ring outside cube 0";
+        }
+        for (std::size_t i = 0; i < spans.size(); ++i) {
+          const double len = spans[i][1] - spans[i][0];
+          EXPECT_GE(len, laid_out / 8 * (1 - 1e-12)) << "halved more than max_level - level times";
+          if (i + 1 < spans.size()) {
+            const double next = spans[i + 1][1] - spans[i + 1][0];
+            EXPECT_LE(std::max(len, next), 2 * std::min(len, next) * (1 + 1e-12)) << "adjacent spans more than 2:1 (block " << b << ", axis " << a << ")";
+          }
+        }
+      }
+    }
+    EXPECT_EQ(inserted, lv.knots_inserted);
+    EXPECT_GT(inserted_cube0_ring, 0);
+    double scale = 0;
+    int pairs = 0;
+    const double gap = face_gap(ts, k, &scale, &pairs);
+    EXPECT_LE(gap, 1e-12 * scale);
+    const extract::GlobalBasis g = extract::global_basis(ts, hexes(ts));
+    EXPECT_LE(g.partition_of_unity_error, 1e-12);
+    EXPECT_EQ(tmesh::count_nodes(ts).t_junctions, 0);
+    int elements = 0, per_block = 0;
+    for (const auto& t : ts) elements += t.elements();
+    p.refine = "boundary";
+    for (const auto& t : tmesh::build(maps, p)) per_block += t.elements();
+    EXPECT_LT(elements, per_block);
+  }
+}
+
+// Spans on the bent ring (its cylinders curve along the ring, not along the height): ε between
+// the deviations of the uniform levels 2 and 3 is reached (sampled again independently) by
+// halving the spans along the ring alone; h-refinement afterwards keeps the spline; a floor no
+// span gets under (a faceted input) ends with the round that bought nothing undone.
+TEST(Levels, SpansBringTheBentRingWithinEpsilonAlongItsCurvedDirection) {
+  tmesh::PolycubeMaps maps = ring(4);
+  maps.diagonal = 2 * kOuter;
+  maps.surface_distance = ring_distance;
+  tmesh::Params p;
+  p.level = 1;
+  p.max_level = 4;
+  p.h_refine = 0;
+  auto worst = [&](const std::vector<tmesh::TMesh>& ts) {
+    const auto d = tmesh::boundary_deviation(ts, ring_distance, p.deviation_samples);
+    return *std::max_element(d.begin(), d.end()) / maps.diagonal;
+  };
+  const double d2 = worst(tmesh::build(maps, p, std::vector<int>(4, 2))), d3 = worst(tmesh::build(maps, p, std::vector<int>(4, 3)));
+  p.epsilon_rel = std::sqrt(d2 * d3);
+  p.refine = "spans";
+  tmesh::Levels lv;
+  const auto ts = tmesh::build(maps, p, &lv);
+  const auto laid = tmesh::build(maps, p, std::vector<int>(4, 1));
+  EXPECT_EQ(lv.stop, "within_epsilon");
+  EXPECT_LE(lv.deviation_rel, p.epsilon_rel);
+  EXPECT_LE(worst(ts), p.epsilon_rel);
+  EXPECT_GT(worst(laid), p.epsilon_rel);
+  for (std::size_t b = 0; b < ts.size(); ++b) {
+    EXPECT_EQ(ts[b].knots[1], laid[b].knots[1]) << "block " << b << ": radial spans halved";
+    EXPECT_EQ(ts[b].knots[2], laid[b].knots[2]) << "block " << b << ": height spans halved";
+  }
+  int elements = 0, per_block = 0;
+  for (const auto& t : ts) elements += t.elements();
+  p.refine = "boundary";
+  tmesh::Levels lb;
+  for (const auto& t : tmesh::build(maps, p, &lb)) per_block += t.elements();
+  EXPECT_LE(lb.deviation_rel, p.epsilon_rel);
+  EXPECT_LT(2 * elements, per_block);
+  // h-refinement of blocks on these knots: the same spline, eight elements for one.
+  p.refine = "spans";
+  p.h_refine = 1;
+  const auto fine = tmesh::h_refine(maps, p, ts, 1);
+  ASSERT_EQ(fine.size(), ts.size());
+  double moved = 0;
+  for (std::size_t b = 0; b < ts.size(); ++b) {
+    EXPECT_EQ(fine[b].elements(), 8 * ts[b].elements());
+    for (int i = 0; i <= 4; ++i)
+      for (int j = 0; j <= 4; ++j)
+        for (int l = 0; l <= 4; ++l) {
+          const Eigen::Vector3d u(i / 4.0, j / 4.0, l / 4.0);
+          moved = std::max(moved, (bezier::evaluate(volume(fine[b]), u) - bezier::evaluate(volume(ts[b]), u)).norm());
+        }
+  }
+  EXPECT_LE(moved, 1e-12 * kOuter);
+  // A floor: the round that bought nothing is undone.
+  maps.surface_distance = [](const Vec3& x) { return ring_distance(x) + 0.1; };
+  p.h_refine = 0;
+  p.epsilon_rel = 0.01;
+  const auto floor_ts = tmesh::build(maps, p, &lv);
+  EXPECT_EQ(lv.stop, "no_gain");
+  EXPECT_EQ(lv.refinements, 0);
+  EXPECT_EQ(lv.knots_inserted, 0);
+  for (std::size_t b = 0; b < ts.size(); ++b) EXPECT_EQ(floor_ts[b].knots, laid[b].knots);
 }
