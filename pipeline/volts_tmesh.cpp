@@ -131,7 +131,9 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   };
   if (params.continuity == "c2") {
     core::LogSection s("C2 across block faces");
-    const tmesh::ContinuityResult c = tmesh::raise_continuity(ts);
+    tmesh::ContinuityParams cp;
+    cp.lengths = levels.span_units;  // spans halved one by one: their units (empty otherwise: unit intervals)
+    const tmesh::ContinuityResult c = tmesh::raise_continuity(ts, cp);
     core::log(std::to_string(c.faces) + " block faces C2 across (" + std::to_string(c.lines) + " lines of control points, " + std::to_string(c.constrained) +
               " clamped extras now rows), " + std::to_string(c.faces_kept) + " kept C0");
     continuity["optimized"] = continuity_json(c);
@@ -215,7 +217,10 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
       keep.project = false;  // the same spline: rows only where it is C2 already
       // The spline is C2 in the units of the uniform refinement; the pillow layer's further split
       // makes its knot intervals there 1/pillow_splits of those.
-      if (params.pillow_splits > 1)
+      // With adaptive spans the optimized net is not in unit intervals either: its units times 2^h_refine.
+      if (!levels.span_units.empty())
+        for (const auto& u : levels.span_units) keep.lengths.push_back({std::ldexp(u[0], params.h_refine), std::ldexp(u[1], params.h_refine), std::ldexp(u[2], params.h_refine)});
+      else if (params.pillow_splits > 1)
         for (const auto& sp : splits)
           keep.lengths.push_back({double(sp[0].size() << params.h_refine), double(sp[1].size() << params.h_refine), double(sp[2].size() << params.h_refine)});
       const tmesh::ContinuityResult c = tmesh::raise_continuity(ts, keep);

@@ -253,10 +253,6 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     if (c.tmesh.continuity == "c2" && c.tmesh.degree != 3)
       throw core::ConfigError(source + ": tmesh.continuity: c2 is for cubic splines (tmesh.degree 3), got degree " + std::to_string(c.tmesh.degree));
     s.get("refine", c.tmesh.refine, {"boundary", "cube", "spans"});
-    // C2's smooth rows take the knot intervals of the uniform layout (ContinuityParams::lengths
-    // per block); spans halved one by one need them per span: not done yet.
-    if (c.tmesh.continuity == "c2" && c.tmesh.refine == "spans")
-      throw core::ConfigError(source + ": tmesh.continuity: c2 does not work with tmesh.refine: spans yet (use refine boundary or continuity c0)");
     s.finish();
   }
   {

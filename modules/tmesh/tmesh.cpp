@@ -798,6 +798,10 @@ std::vector<TMesh> refine_spans(const PolycubeMaps& maps, const Params& params, 
     lv.refined_blocks += refined ? 1 : 0;
   }
   lv.knots_inserted = static_cast<int>(now - laid_out);
+  lv.span_units.assign(nb, {0.0, 0.0, 0.0});
+  for (std::size_t b = 0; b < nb; ++b)
+    for (std::size_t a = 0; a < 3; ++a)
+      for (const int d : depth[3 * b + a]) lv.span_units[b][a] += std::ldexp(1.0, -d);
   block_dev.assign(nb, 0.0);
   for (std::size_t b = 0; b < nb; ++b)
     for (const std::vector<double>& f : dev[b].dev)

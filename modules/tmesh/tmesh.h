@@ -207,6 +207,9 @@ struct Levels {
   int refinements = 0;  ///< rounds of refinement run (each raised some cube one level, or halved some spans)
   /// Params::refine "spans": knots inserted, summed over blocks and axes (0 otherwise).
   int knots_inserted = 0;
+  /// Params::refine "spans": per block, per axis, its parameter length in elements as laid out
+  /// (a halved span counts one half): the units ContinuityParams::lengths takes. Empty otherwise.
+  std::vector<std::array<double, 3>> span_units;
   /// "within_epsilon", "max_level", "disabled", "no_gain" (a level did not lower a cube's
   /// deviation by a fifth: the input's faceting, not the spline; a round where no cube gained is
   /// undone) or "not_face_to_face" (a level would break conformity; the last conforming one kept)

@@ -105,7 +105,6 @@ TEST(Config, SlideSurfaceKeys) {
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {refine: cube}\n", "t")), "emitted").tmesh.refine, "cube");
   EXPECT_EQ(config::parse_config(config::to_yaml(config::parse_config("tmesh: {refine: spans}\n", "t")), "emitted").tmesh.refine, "spans");
   EXPECT_NE(config_error("tmesh: {refine: all}\n").find("tmesh.refine"), std::string::npos);
-  EXPECT_NE(config_error("tmesh: {refine: spans, continuity: c2}\n").find("does not work with tmesh.refine: spans"), std::string::npos);
   EXPECT_EQ(file.tmesh.h_refine, tmesh::Params{}.h_refine);
   EXPECT_EQ(file.extract.dense_points, extract::Params{}.dense_points);
   EXPECT_EQ(file.tmesh.grid_points, tmesh::Params{}.grid_points);

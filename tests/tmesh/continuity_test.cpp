@@ -76,7 +76,10 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> face_derivatives(const tmesh::TMesh&
   const bezier::TensorBSplineVolume vol = test::volume(t);
   const int n = t.size[a] - t.degree;
   const double units = length > 0 ? length : n;
-  const double h = 0.25 * units / n;  // four points in the last element
+  // Four points in the last element (its own length: spans halved by refine "spans" differ).
+  const std::vector<double>& k = t.knots[static_cast<std::size_t>(a)];
+  const double last = side ? 1.0 - k[static_cast<std::size_t>(t.size[a] - 1)] : k[static_cast<std::size_t>(t.degree + 1)];
+  const double h = 0.25 * units * last;
   Eigen::Vector3d f[4];
   for (int k = 0; k < 4; ++k) {
     Eigen::Vector3d uvw(0.5, 0.5, 0.5);
@@ -300,6 +303,59 @@ TEST(Continuity, PillowSplitsKeepTheirC2FacesGivenTheBlocksLengths) {
   EXPECT_THROW(tmesh::raise_continuity(ts, bad), core::InvalidInputError);
   bad.lengths.assign(ts.size(), {1.0, 0.0, 1.0});
   EXPECT_THROW(tmesh::raise_continuity(ts, bad), core::InvalidInputError);
+}
+
+// Adaptive spans (tmesh.refine spans) leave knot intervals of half an element next to some faces
+// (a ring whose cube 0 deviates near its face with cube 3): given the blocks' units
+// (Levels::span_units) every merged face is C2 in them; taken as unit intervals the rows
+// are wrong there.
+TEST(Continuity, AdaptiveSpansAreC2GivenTheirUnits) {
+  const tmesh::PolycubeMaps maps = [] {
+    tmesh::PolycubeMaps m = test::ring(4);
+    m.diagonal = 2 * test::kOuter;
+    m.surface_distance = [](const Vec3& x) {
+      const double t = std::atan2(x[1], x[0]);
+      return (t < -0.05 && t > -0.5 ? 1e6 : 1.0) * test::ring_distance(x);
+    };
+    return m;
+  }();
+  tmesh::Params p;
+  p.level = 2;
+  p.max_level = 4;
+  p.epsilon_rel = 0.01;
+  p.h_refine = 0;
+  p.refine = "spans";
+  tmesh::Levels lv;
+  const std::vector<tmesh::TMesh> ts = tmesh::build(maps, p, &lv);
+  ASSERT_GT(lv.knots_inserted, 0);
+  ASSERT_EQ(lv.span_units.size(), ts.size());
+  for (std::size_t b = 0; b < ts.size(); ++b)
+    for (int a = 0; a < 3; ++a) {
+      // A block's units are its elements as laid out: the same on every block along the ring's height.
+      if (a == 2) {
+        EXPECT_EQ(lv.span_units[b][2], static_cast<double>(ts[b].size[2] - 3));
+      }
+      EXPECT_LE(lv.span_units[b][static_cast<std::size_t>(a)], static_cast<double>(ts[b].size[a] - 3));
+    }
+  std::vector<tmesh::TMesh> with = ts, blind = ts;
+  tmesh::ContinuityParams cp;
+  cp.lengths = lv.span_units;
+  EXPECT_GT(tmesh::raise_continuity(with, cp).lines, 0);
+  tmesh::raise_continuity(blind);
+  EXPECT_LT(off_rows(with), 1e-9);
+  double worst_with = 0, worst_blind = 0;
+  for (const Face& f : merged_faces(with)) {
+    const Jump j = jump(with, f, &cp.lengths);
+    EXPECT_LT(j.d1, 1e-8 * j.scale);
+    EXPECT_LT(j.d2, 1e-6 * j.scale);
+    worst_with = std::max(worst_with, j.d2 / j.scale);
+  }
+  for (const Face& f : merged_faces(blind)) {
+    const Jump j = jump(blind, f, &cp.lengths);
+    worst_blind = std::max(worst_blind, std::max(j.d1, j.d2) / j.scale);
+  }
+  EXPECT_GT(worst_blind, 1e-3) << "unit intervals gave C2 rows across the halved spans too";
+  EXPECT_LE(extract::global_basis(with, test::hexes(with)).partition_of_unity_error, 1e-12);
 }
 
 TEST(Continuity, TheOptimizerKeepsEveryConstrainedPointOnItsRow) {
