@@ -310,21 +310,8 @@ TEST(Continuity, PillowSplitsKeepTheirC2FacesGivenTheBlocksLengths) {
 // (Levels::span_units) every merged face is C2 in them; taken as unit intervals the rows
 // are wrong there.
 TEST(Continuity, AdaptiveSpansAreC2GivenTheirUnits) {
-  const tmesh::PolycubeMaps maps = [] {
-    tmesh::PolycubeMaps m = test::ring(4);
-    m.diagonal = 2 * test::kOuter;
-    m.surface_distance = [](const Vec3& x) {
-      const double t = std::atan2(x[1], x[0]);
-      return (t < -0.05 && t > -0.5 ? 1e6 : 1.0) * test::ring_distance(x);
-    };
-    return m;
-  }();
-  tmesh::Params p;
-  p.level = 2;
-  p.max_level = 4;
-  p.epsilon_rel = 0.01;
-  p.h_refine = 0;
-  p.refine = "spans";
+  const tmesh::PolycubeMaps maps = test::ring_far_at_cube0(4);
+  const tmesh::Params p = test::far_ring_params(2, "spans");
   tmesh::Levels lv;
   const std::vector<tmesh::TMesh> ts = tmesh::build(maps, p, &lv);
   ASSERT_GT(lv.knots_inserted, 0);

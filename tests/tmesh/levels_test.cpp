@@ -149,29 +149,13 @@ TEST(Levels, ConstraintsSurviveJsonAndAreChecked) {
   EXPECT_THROW(tmesh::from_json(j, "bad.json"), core::InvalidInputError);
 }
 
-// A ring whose surface, seen from cube 0's sector, lies 1e6 times as far as it does (a distance
-// that still shrinks with every level, by the spline's h^4): adaptivity refines there first.
-tmesh::PolycubeMaps ring_far_at_cube0(int k) {
-  tmesh::PolycubeMaps maps = ring(k);
-  maps.diagonal = 2 * kOuter;
-  maps.surface_distance = [](const Vec3& x) {
-    const double t = std::atan2(x[1], x[0]);
-    return (t < -0.05 && t > -0.5 ? 1e6 : 1.0) * ring_distance(x);
-  };
-  return maps;
-}
-
 // One cube whose boundary counts as far too far from the surface (its distance scaled by 1e6,
 // so each level still lowers it, by the spline's h^4): it is refined to max_level and the cubes
 // around it follow with at most one level less each (2:1).
 TEST(Levels, RefinementKeepsTwoToOneBalanceBetweenCubesThatTouch) {
   for (int k = 4; k <= 6; ++k) {
     const tmesh::PolycubeMaps maps = ring_far_at_cube0(k);
-    tmesh::Params p;
-    p.level = 1;
-    p.max_level = 4;
-    p.epsilon_rel = 0.01;
-    p.h_refine = 0;
+    tmesh::Params p = far_ring_params(1, "boundary");
     tmesh::Levels lv;
     const auto ts = tmesh::build(maps, p, &lv);
     ASSERT_EQ(static_cast<int>(lv.level.size()), k);
@@ -191,9 +175,7 @@ TEST(Levels, RefinementKeepsTwoToOneBalanceBetweenCubesThatTouch) {
 // ε-driven refinement on the bent ring (its cylinders are not polynomial): a smaller ε refines,
 // and each level lowers the sampled deviation of the boundary.
 TEST(Levels, EpsilonRefinesUntilTheBoundaryIsWithinIt) {
-  tmesh::PolycubeMaps maps = ring(4);
-  maps.diagonal = 2 * kOuter;
-  maps.surface_distance = ring_distance;
+  tmesh::PolycubeMaps maps = measured_ring(4);
   tmesh::Params p;
   p.level = 1;
   p.max_level = 4;
@@ -373,12 +355,7 @@ TEST(Levels, SpansHalveTheDeviatingSpansAloneAndMeetFaceToFace) {
   for (int k = 4; k <= 6; ++k) {
     SCOPED_TRACE("ring of " + std::to_string(k) + " cubes");
     const tmesh::PolycubeMaps maps = ring_far_at_cube0(k);
-    tmesh::Params p;
-    p.level = 1;
-    p.max_level = 4;
-    p.epsilon_rel = 0.01;
-    p.h_refine = 0;
-    p.refine = "spans";
+    tmesh::Params p = far_ring_params(1, "spans");
     tmesh::Levels lv;
     const auto ts = tmesh::build(maps, p, &lv);
     const auto laid = tmesh::build(maps, p, std::vector<int>(static_cast<std::size_t>(k), 1));
@@ -431,9 +408,7 @@ TEST(Levels, SpansHalveTheDeviatingSpansAloneAndMeetFaceToFace) {
 // halving the spans along the ring alone; h-refinement afterwards keeps the spline; a floor no
 // span gets under (a faceted input) ends with the round that bought nothing undone.
 TEST(Levels, SpansBringTheBentRingWithinEpsilonAlongItsCurvedDirection) {
-  tmesh::PolycubeMaps maps = ring(4);
-  maps.diagonal = 2 * kOuter;
-  maps.surface_distance = ring_distance;
+  tmesh::PolycubeMaps maps = measured_ring(4);
   tmesh::Params p;
   p.level = 1;
   p.max_level = 4;

@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "bezier/bspline_volume.h"
@@ -40,6 +41,36 @@ inline tmesh::PolycubeMaps ring(int k) {
 inline double ring_distance(const Vec3& x) {
   const double r = std::hypot(x[0], x[1]);
   return std::min({std::abs(r - kInner), std::abs(r - kOuter), std::abs(x[2]), std::abs(x[2] - 1)});
+}
+
+// The ring with its true surface distance (adaptive levels, levels_test.cpp).
+inline tmesh::PolycubeMaps measured_ring(int k) {
+  tmesh::PolycubeMaps maps = ring(k);
+  maps.diagonal = 2 * kOuter;
+  maps.surface_distance = ring_distance;
+  return maps;
+}
+
+// A ring whose surface, seen from cube 0's sector, lies 1e6 times as far as it does (a distance
+// that still shrinks with every level, by the spline's h^4): adaptivity refines there first.
+inline tmesh::PolycubeMaps ring_far_at_cube0(int k) {
+  tmesh::PolycubeMaps maps = measured_ring(k);
+  maps.surface_distance = [](const Vec3& x) {
+    const double t = std::atan2(x[1], x[0]);
+    return (t < -0.05 && t > -0.5 ? 1e6 : 1.0) * ring_distance(x);
+  };
+  return maps;
+}
+
+// Parameters under which ring_far_at_cube0 refines its cube 0 to level 4 (ε 0.01, no h-refinement).
+inline tmesh::Params far_ring_params(int level, const std::string& refine) {
+  tmesh::Params p;
+  p.level = level;
+  p.max_level = 4;
+  p.epsilon_rel = 0.01;
+  p.h_refine = 0;
+  p.refine = refine;
+  return p;
 }
 
 inline bezier::TensorBSplineVolume volume(const tmesh::TMesh& t) {
