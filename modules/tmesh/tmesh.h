@@ -201,7 +201,7 @@ struct PolycubeMaps {
 /// relative to the diagonal (0 without a surface_distance).
 struct Levels {
   std::vector<int> level;
-  int refined_blocks = 0;  ///< blocks finer than Params::level
+  int refined_blocks = 0;  ///< blocks finer than Params::level (refine "spans": blocks with a knot inserted)
   std::vector<double> cube_deviation_rel;  ///< per cube, relative to the diagonal (empty without a surface_distance)
   double deviation_rel = 0;
   int refinements = 0;  ///< rounds of refinement run (each raised some cube one level, or halved some spans)
