@@ -92,6 +92,11 @@ const std::vector<Model>& all_models() {
       {"rod-e125", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {joint_evaluations: 125}"},
       {"rod-e200", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {joint_evaluations: 200}"},
       {"rod-e300", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {joint_evaluations: 300}"},
+      // Adaptivity per block (T-junctions) against per element face (knot planes, tmesh.refine
+      // spans, session 45) at one ε below the torus' unrefined deviation (1.0e-3).
+      {"torus-eps", "torus", "", 24, &kTorus, 0.5, "tmesh: {epsilon_rel: 0.001}"},
+      {"torus-spans", "torus", "", 24, &kTorus, 0.5, "tmesh: {epsilon_rel: 0.001, refine: spans}"},
+      {"eight-spans", "", "cfwen_eight.off", 24, &kEight, 0.4, "tmesh: {epsilon_rel: 0.002, refine: spans}"},
       // C2 across the faces between blocks (tmesh.continuity c2, session 39): the figures and the
       // global functions against the defaults' C0.
       {"torus-c2", "torus", "", 24, &kTorus, 0.5, "tmesh: {continuity: c2}"},
