@@ -477,6 +477,32 @@ TEST(Pipeline, AdaptiveSpansReachEpsilonWithFewerElementsThanBlockLevels) {
   EXPECT_LT(rep["spans"]["extract"]["bezier_elements"].get<int>(), rep["boundary"]["extract"]["bezier_elements"].get<int>());
 }
 
+TEST(Pipeline, AdaptiveSpansUndoARoundThatLeavesTheWorstDeviationHigher) {
+  // The generated cube-with-hole at ε 0.0002 (its unrefined deviation is 7.21e-4 of the
+  // diagonal, the hole's faceting): a round of halved spans lowers some faces' deviation but
+  // raises the worst (7.33e-4, measured in session 45 before the guard), so it is undone — the
+  // same blocks and figure as a run that refines nothing (ε 0.01).
+  const fs::path d = test::fresh_dir("pipeline", "spans_undo");
+  test::write_text(d / "base.yaml", "input: {generate: cube-with-hole}\nextract: {exports: [vtu]}\n");
+  const test::Outcome r0 = test::run(test::bin("volts") + " run " + (d / "base.yaml").string() + " --workdir " + (d / "base").string() + " --to polycube");
+  ASSERT_EQ(r0.code, 0) << r0.output;
+  std::map<std::string, core::Json> levels;
+  for (const std::string eps : {"0.01", "0.0002"}) {
+    test::write_text(d / ("e" + eps + ".yaml"), "input: {generate: cube-with-hole}\ntmesh: {epsilon_rel: " + eps + ", refine: spans}\nextract: {exports: [vtu]}\n");
+    const fs::path w = d / ("e" + eps);
+    fs::create_directories(w);
+    for (const char* f : {"classify.stage.json", "split.stage.json", "polycube.stage.json"}) fs::copy_file(d / "base" / f, w / f);
+    const test::Outcome r = test::run(test::bin("volts") + " run " + (d / ("e" + eps + ".yaml")).string() + " --workdir " + w.string() + " --from tmesh --to tmesh");
+    ASSERT_EQ(r.code, 0) << r.output;
+    levels[eps] = core::read_report(w.string())["stages"]["tmesh"]["levels"];
+  }
+  EXPECT_EQ(levels["0.01"]["stop"], "within_epsilon");
+  EXPECT_GT(levels["0.01"]["boundary_deviation_rel"].get<double>(), 0.0002);
+  EXPECT_EQ(levels["0.0002"]["stop"], "no_gain");
+  EXPECT_EQ(levels["0.0002"]["knots_inserted"], 0);
+  EXPECT_EQ(levels["0.0002"]["boundary_deviation_rel"].get<double>(), levels["0.01"]["boundary_deviation_rel"].get<double>());
+}
+
 TEST(Pipeline, EightRunsEndToEndWithEveryElementValid) {
   // Issue 8 on the eight (cfwen_eight, defaults): two rings of four cubes and a connector cube
   // between their disks (split.genus2 auto), a conforming interface, every Bézier element
