@@ -27,6 +27,14 @@ std::size_t files_in(const fs::path& d) {
   return static_cast<std::size_t>(std::distance(fs::directory_iterator(d), fs::directory_iterator()));
 }
 
+// `volts run config --from tmesh [--to to]` in a fresh `dir` holding the classify, split and
+// polycube stage files of the run in `base`: a variant of tmesh's settings on one polycube.
+test::Outcome run_from_tmesh(const fs::path& base, const fs::path& dir, const fs::path& config, const std::string& to = "") {
+  fs::create_directories(dir);
+  for (const char* f : {"classify.stage.json", "split.stage.json", "polycube.stage.json"}) fs::copy_file(base / f, dir / f);
+  return test::run(test::bin("volts") + " run " + config.string() + " --workdir " + dir.string() + " --from tmesh" + (to.empty() ? "" : " --to " + to));
+}
+
 }  // namespace
 
 // The skeleton's elements at level 3: a core of 8^3, a pillow 2 elements thick under 6 faces.
@@ -415,9 +423,7 @@ TEST(Pipeline, PillowSplitsThinTheLayerAlongTheSurfaceWithTheSameSpline) {
   test::write_text(d / "three.yaml", "input: {generate: torus, resolution: 24}\ntmesh: {pillow_splits: 3}\nextract: {json_operators: kronecker}\n");
   const test::Outcome r1 = test::run(test::bin("volts") + " run " + (d / "one.yaml").string() + " --workdir " + (d / "one").string());
   ASSERT_EQ(r1.code, 0) << r1.output;
-  fs::create_directories(d / "three");
-  for (const char* f : {"classify.stage.json", "split.stage.json", "polycube.stage.json"}) fs::copy_file(d / "one" / f, d / "three" / f);
-  const test::Outcome r3 = test::run(test::bin("volts") + " run " + (d / "three.yaml").string() + " --workdir " + (d / "three").string() + " --from tmesh");
+  const test::Outcome r3 = run_from_tmesh(d / "one", d / "three", d / "three.yaml");
   ASSERT_EQ(r3.code, 0) << r3.output;
   const core::Json rep1 = core::read_report((d / "one").string()), rep3 = core::read_report((d / "three").string());
   EXPECT_EQ(rep1["stages"]["tmesh"]["pillow_splits"], 1);
@@ -455,9 +461,7 @@ TEST(Pipeline, AdaptiveSpansReachEpsilonWithFewerElementsThanBlockLevels) {
   for (const std::string mode : {"boundary", "spans"}) {
     test::write_text(d / (mode + ".yaml"), "input: {generate: torus, resolution: 24}\ntmesh: {epsilon_rel: 0.001, refine: " + mode +
                                                "}\nextract: {json_operators: kronecker}\n");
-    fs::create_directories(d / mode);
-    for (const char* f : {"classify.stage.json", "split.stage.json", "polycube.stage.json"}) fs::copy_file(d / "base" / f, d / mode / f);
-    const test::Outcome r = test::run(test::bin("volts") + " run " + (d / (mode + ".yaml")).string() + " --workdir " + (d / mode).string() + " --from tmesh");
+    const test::Outcome r = run_from_tmesh(d / "base", d / mode, d / (mode + ".yaml"));
     ASSERT_EQ(r.code, 0) << r.output;
     rep[mode] = core::read_report((d / mode).string())["stages"];
     const core::Json& x = rep[mode]["extract"];
@@ -490,9 +494,7 @@ TEST(Pipeline, AdaptiveSpansUndoARoundThatLeavesTheWorstDeviationHigher) {
   for (const std::string eps : {"0.01", "0.0002"}) {
     test::write_text(d / ("e" + eps + ".yaml"), "input: {generate: cube-with-hole}\ntmesh: {epsilon_rel: " + eps + ", refine: spans}\nextract: {exports: [vtu]}\n");
     const fs::path w = d / ("e" + eps);
-    fs::create_directories(w);
-    for (const char* f : {"classify.stage.json", "split.stage.json", "polycube.stage.json"}) fs::copy_file(d / "base" / f, w / f);
-    const test::Outcome r = test::run(test::bin("volts") + " run " + (d / ("e" + eps + ".yaml")).string() + " --workdir " + w.string() + " --from tmesh --to tmesh");
+    const test::Outcome r = run_from_tmesh(d / "base", w, d / ("e" + eps + ".yaml"), "tmesh");
     ASSERT_EQ(r.code, 0) << r.output;
     levels[eps] = core::read_report(w.string())["stages"]["tmesh"]["levels"];
   }
