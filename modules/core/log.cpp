@@ -1,6 +1,7 @@
 #include "core/log.h"
 
 #include <cstdio>
+#include <ctime>
 #include <iostream>
 #include <sstream>
 
@@ -41,10 +42,16 @@ std::string LogCapture::release() {
 }
 void log_lines(const std::string& lines) { emit(lines); }
 
-LogSection::LogSection(std::string name) : name_(std::move(name)) { log("== " + name_); }
+double process_cpu_seconds() {
+  timespec t{};
+  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0) return 0;
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+LogSection::LogSection(std::string name) : name_(std::move(name)), cpu_start_(process_cpu_seconds()) { log("== " + name_); }
 LogSection::~LogSection() {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3f s", watch_.seconds());
+  std::snprintf(buf, sizeof buf, "%.3f s (CPU %.3f s)", watch_.seconds(), process_cpu_seconds() - cpu_start_);
   log("== " + name_ + ": " + buf);
 }
 

@@ -56,7 +56,12 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_;
 };
 
-/// A named phase: logs "== name" on entry and "== name: 0.123 s" on exit.
+/// CPU time of this process so far, all threads (seconds).
+double process_cpu_seconds();
+
+/// A named phase: logs "== name" on entry and "== name: 0.123 s (CPU 0.240 s)" on exit: wall time,
+/// and the process' CPU time over all threads (how parallel the phase ran; other threads' work
+/// in the same span counts too).
 class LogSection {
  public:
   explicit LogSection(std::string name);
@@ -68,6 +73,7 @@ class LogSection {
  private:
   std::string name_;
   Stopwatch watch_;
+  double cpu_start_;
 };
 
 /// Progress of a long loop, printed at most every ~2 s and at 100 %.
