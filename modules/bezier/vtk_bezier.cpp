@@ -597,7 +597,7 @@ void write_vtu_with_cell_arrays(const std::string& in, const std::string& out, c
 }
 
 void write_bezier_vtu(const std::string& path, const std::vector<BezierHex>& hexes,
-                      const std::vector<CellArray>& cell_arrays) {
+                      const std::vector<CellArray>& cell_arrays, const std::vector<int>& shared) {
   for (std::size_t h = 0; h < hexes.size(); ++h) {
     try {
       check(hexes[h]);
@@ -627,18 +627,32 @@ void write_bezier_vtu(const std::string& path, const std::vector<BezierHex>& hex
   // Sized once: growing the arrays point by point reallocated and copied them (a tenth of extract).
   vtkIdType total = 0;
   for (const BezierHex& hex : hexes) total += hex.num_points();
-  points->SetNumberOfPoints(total);
-  weights->SetNumberOfValues(total);
+  vtkIdType distinct = total;
+  if (!shared.empty()) {
+    if (shared.size() != static_cast<std::size_t>(total))
+      throw core::InvalidInputError(path + ": " + std::to_string(shared.size()) + " shared point ids for " + std::to_string(total) + " control points");
+    distinct = 0;
+    for (const int id : shared) {
+      if (id < 0 || id > distinct) throw core::InvalidInputError(path + ": shared point ids must be numbered in order of first use, got " + std::to_string(id));
+      if (id == distinct) ++distinct;
+    }
+  }
+  points->SetNumberOfPoints(distinct);
+  weights->SetNumberOfValues(distinct);
   std::vector<vtkIdType> ids;
-  vtkIdType base = 0;
+  vtkIdType base = 0, next = 0;
   for (std::size_t h = 0; h < hexes.size(); ++h) {
     const BezierHex& hex = hexes[h];
     ids.assign(hex.num_points(), 0);
     for (int n = 0; n < hex.num_points(); ++n) {
-      points->SetPoint(base + n, hex.points[n].data());
-      weights->SetValue(base + n, hex.weight(n));
+      const vtkIdType id = shared.empty() ? base + n : shared[static_cast<std::size_t>(base + n)];
+      if (id == next) {
+        points->SetPoint(id, hex.points[n].data());
+        weights->SetValue(id, hex.weight(n));
+        ++next;
+      }
       const auto [i, j, k] = hex.ijk(n);
-      ids[vtk_hex_point_index(i, j, k, hex.degree)] = base + n;
+      ids[vtk_hex_point_index(i, j, k, hex.degree)] = id;
     }
     grid->InsertNextCell(VTK_BEZIER_HEXAHEDRON, static_cast<vtkIdType>(ids.size()), ids.data());
     base += hex.num_points();

@@ -36,14 +36,18 @@ struct CellArray {
   std::vector<double> values;
 };
 
-/// Writes the hexes to `path` (atomically, core::write_atomically). Every cell gets its own copy
-/// of its control points — shared points of neighbouring elements are duplicated (simplest; fine
-/// for viewing, not a connected mesh). RationalWeights is written for every point (1 for
-/// polynomial hexes), HigherOrderDegrees for every cell; mixed degrees are allowed.
-/// Throws core::InvalidInputError for a malformed hex or cell array (wrong size, empty or reserved
-/// name), core::IoError if the file cannot be written (no temporary file is left behind).
+/// Writes the hexes to `path` (atomically, core::write_atomically). RationalWeights is written
+/// for every point (1 for polynomial hexes), HigherOrderDegrees for every cell; mixed degrees are
+/// allowed. Points: with `shared` empty every cell gets its own copy of its control points (not a
+/// connected mesh: ParaView's surface of it has every element face). Else shared[o_h + n] is the
+/// file's point for control point n of hex h (o_h: the points of the hexes before h), numbered
+/// 0, 1, ... in order of first use; a point takes the position and weight of its first use — a
+/// connected mesh (extract::shared_points makes one).
+/// Throws core::InvalidInputError for a malformed hex, cell array (wrong size, empty or reserved
+/// name) or `shared` (wrong size, an id out of order), core::IoError if the file cannot be written
+/// (no temporary file is left behind).
 void write_bezier_vtu(const std::string& path, const std::vector<BezierHex>& hexes,
-                      const std::vector<CellArray>& cell_arrays = {});
+                      const std::vector<CellArray>& cell_arrays = {}, const std::vector<int>& shared = {});
 
 /// The elements of a .vtu, in cell order.
 struct VtuElements {

@@ -464,7 +464,38 @@ void write_bezier_vtu(const std::string& path, const Result& r) {
                                           {"status", 1, std::vector<double>(r.status.begin(), r.status.end())},
                                           {"certified_min_detj", 1, r.certified_min_detj}};
   if (!r.min_scaled_jacobian_dense.empty()) cells.push_back({"min_scaled_jacobian_dense", 1, r.min_scaled_jacobian_dense});
-  bezier::write_bezier_vtu(path, r.hexes, cells);
+  bezier::write_bezier_vtu(path, r.hexes, cells, shared_points(r.hexes));
+}
+
+std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes) {
+  Eigen::AlignedBox3d box;
+  std::size_t total = 0;
+  for (const auto& h : hexes) {
+    for (const auto& x : h.points) box.extend(x);
+    total += h.points.size();
+  }
+  PointIndex index(box, std::max(point_tolerance(box, 1e-12), std::numeric_limits<double>::min()));
+  index.reserve(total / 2);
+  // The index's point -> its file point of that point's weight (a second weight at one position
+  // gets a point of its own, outside the index).
+  std::vector<int> file_point;
+  std::vector<double> weight;
+  std::vector<int> ids;
+  ids.reserve(total);
+  int next = 0;
+  for (const auto& h : hexes)
+    for (int n = 0; n < h.num_points(); ++n) {
+      const int p = index.find_or_add(h.points[static_cast<std::size_t>(n)]);
+      const double w = h.weight(n);
+      if (p == static_cast<int>(file_point.size())) {
+        file_point.push_back(next), weight.push_back(w), ids.push_back(next++);
+      } else if (std::abs(weight[static_cast<std::size_t>(p)] - w) <= 1e-12 * std::abs(w)) {
+        ids.push_back(file_point[static_cast<std::size_t>(p)]);
+      } else {
+        ids.push_back(next++);
+      }
+    }
+  return ids;
 }
 
 GlobalBasis bezier_basis(const std::vector<bezier::BezierHex>& hexes, bool keep_operators) {

@@ -11,6 +11,7 @@
 
 #include "bezier/bernstein.h"
 #include "bezier/bernstein_poly.h"
+#include "extract/extract.h"
 #include "bezier/vtk_bezier.h"
 #include "core/errors.h"
 #include "core/log.h"
@@ -477,7 +478,8 @@ void write_bezier_vtu(const std::string& path, const Result& r) {
                             {"max_scaled_jacobian", 1, r.max_scaled_jacobian},
                             {"boundary_distance", 1, r.boundary_distance},
                             {"status", 1, validity},
-                            {"tet", 1, tet}});
+                            {"tet", 1, tet}},
+                           extract::shared_points(r.hexes));
 }
 
 }  // namespace volts::tet2hex

@@ -19,6 +19,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include "common/test_util.h"
@@ -95,6 +96,39 @@ inline void expect_every_export_parses(const std::filesystem::path& work, bool g
   const Msh m = read_msh((work / "bezier.msh").string());
   ASSERT_EQ(static_cast<long>(m.elements.size()), elements);
   for (const int t : m.types) ASSERT_EQ(t, 92);
+  // bezier.vtu is one connected mesh, as bezier.msh is: the element faces (by their corners) of
+  // one element only — what ParaView shows as the surface — are the same number in both, and
+  // fewer than all faces wherever elements meet.
+  auto faces_of_one_element = [](const std::vector<std::array<long, 8>>& corners) {
+    static const int kFace[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+    std::map<std::array<long, 4>, int> count;
+    for (const auto& c : corners)
+      for (const auto& f : kFace) {
+        std::array<long, 4> key = {c[f[0]], c[f[1]], c[f[2]], c[f[3]]};
+        std::sort(key.begin(), key.end());
+        ++count[key];
+      }
+    return std::count_if(count.begin(), count.end(), [](const auto& x) { return x.second == 1; });
+  };
+  std::vector<std::array<long, 8>> vtu_corners, msh_corners;
+  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c) {
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    g->GetCellPoints(c, n, ids);
+    std::array<long, 8> corner{};
+    for (int i = 0; i < 8; ++i) corner[static_cast<std::size_t>(i)] = static_cast<long>(ids[i]);
+    vtu_corners.push_back(corner);
+  }
+  for (const auto& el : m.elements) {
+    std::array<long, 8> corner{};
+    for (int i = 0; i < 8; ++i) corner[static_cast<std::size_t>(i)] = el.at(static_cast<std::size_t>(i));
+    msh_corners.push_back(corner);
+  }
+  const long surface_faces = faces_of_one_element(vtu_corners);
+  EXPECT_EQ(surface_faces, faces_of_one_element(msh_corners)) << "bezier.vtu and bezier.msh disagree on the surface";
+  if (elements > 1) {
+    EXPECT_LT(surface_faces, 6 * elements) << "bezier.vtu: no two elements share a face";
+  }
   if (gmsh_check && run("gmsh --version").code == 0) {
     const Outcome check = run("gmsh " + (work / "bezier.msh").string() + " -check");
     EXPECT_EQ(check.code, 0) << check.output;
