@@ -211,4 +211,20 @@ int run_stage(int argc, char** argv, const std::string& stage, const std::string
   }
 }
 
+std::vector<std::string> stage_environment(char** environ) {
+  std::vector<std::string> env;
+  bool tunables = false;
+  for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
+    std::string v = *e;
+    if (v.rfind("GLIBC_TUNABLES=", 0) == 0) {
+      tunables = true;
+      if (v.find("glibc.malloc.hugetlb=") == std::string::npos)
+        v += (v.size() > std::string("GLIBC_TUNABLES=").size() ? ":" : "") + std::string("glibc.malloc.hugetlb=1");
+    }
+    env.push_back(std::move(v));
+  }
+  if (!tunables) env.emplace_back("GLIBC_TUNABLES=glibc.malloc.hugetlb=1");
+  return env;
+}
+
 }  // namespace volts::pipeline

@@ -71,4 +71,14 @@ ClassifyInput read_classify_input(const StageContext& ctx);
 int run_stage(int argc, char** argv, const std::string& stage, const std::string& help,
               const std::function<core::Json(StageContext&)>& body);
 
+/// The environment the driver starts the stages with: `environ` (null-terminated "NAME=value"
+/// strings) plus glibc.malloc.hugetlb=1 in GLIBC_TUNABLES (appended to the tunables given, or a
+/// new GLIBC_TUNABLES) unless that tunable is set already, which then stands. malloc then asks for
+/// transparent huge pages (madvise; nothing changes where THP is "never"). Why: on the VMs volts is
+/// benchmarked on, a 4 KiB page touched the first time costs ~13 us (the eight's extract took
+/// 14,700 such faults); with huge pages the eight's run is ~10 % shorter and the rod's tmesh
+/// 11.4 -> 10.3 s (docs/benchmarks.md "Session 46"). GLIBC_TUNABLES is read when a process
+/// starts, so only a parent can set it.
+std::vector<std::string> stage_environment(char** environ);
+
 }  // namespace volts::pipeline
