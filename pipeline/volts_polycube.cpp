@@ -212,11 +212,13 @@ void write_with_volume_map(pipeline::StageContext& ctx, const core::Json& j, con
                            const volmap::VolumeMap& vm, const polycube::Structure& structure, core::Json& report,
                            const std::function<void(const std::string&, bool)>& surface_view) {
   core::LogSection s("write");
-  write_stage(ctx, j, kind, {{"polycube", polycube}, {"volume_map", volmap::to_json(vm)}}, structure, report);
-  surface_view(ctx.path("polycube.vtp"), false);
-  surface_view(ctx.path("polycube_mapped.vtp"), true);
-  volmap::write_vtu(ctx.path("polycube_tets.vtu"), vm);
-  volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), vm);
+  // The files share nothing: written side by side (each to a temporary name first; the first
+  // failure is rethrown once all are done).
+  core::parallel_tasks({[&] { write_stage(ctx, j, kind, {{"polycube", polycube}, {"volume_map", volmap::to_json(vm)}}, structure, report); },
+                        [&] { surface_view(ctx.path("polycube.vtp"), false); },
+                        [&] { surface_view(ctx.path("polycube_mapped.vtp"), true); },
+                        [&] { volmap::write_vtu(ctx.path("polycube_tets.vtu"), vm); },
+                        [&] { volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), vm); }});
 }
 
 // A torus (Liu et al. §4.2, Fig. 5(b)): patch maps on the ring embedding, then the harmonic volume
@@ -311,11 +313,12 @@ core::Json tori(pipeline::StageContext& ctx, const core::Json& j, const split::D
     core::LogSection s("write");
     core::Json members{{"rings", list}};
     if (neck) members["connectors"] = connectors;
-    write_stage(ctx, j, "tori", std::move(members), structure, r);
-    polycube::write_rings_vtp(ctx.path("polycube.vtp"), rings, ms, false);
-    polycube::write_rings_vtp(ctx.path("polycube_mapped.vtp"), rings, ms, true);
-    volmap::write_vtu(ctx.path("polycube_tets.vtu"), maps, offsets, "ring");
-    volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), maps, offsets, "ring");
+    // As in write_with_volume_map: side by side.
+    core::parallel_tasks({[&] { write_stage(ctx, j, "tori", std::move(members), structure, r); },
+                          [&] { polycube::write_rings_vtp(ctx.path("polycube.vtp"), rings, ms, false); },
+                          [&] { polycube::write_rings_vtp(ctx.path("polycube_mapped.vtp"), rings, ms, true); },
+                          [&] { volmap::write_vtu(ctx.path("polycube_tets.vtu"), maps, offsets, "ring"); },
+                          [&] { volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), maps, offsets, "ring"); }});
   }
   return r;
 }

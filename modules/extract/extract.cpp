@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -344,7 +345,7 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
       vol.degree = {t.degree, t.degree, t.degree};
       vol.knots = t.knots;
       for (const auto& p : t.control_points) vol.points.emplace_back(p[0], p[1], p[2]);
-      const auto hexes = bezier::extract_bezier_hexes(vol);
+      auto hexes = bezier::extract_bezier_hexes(vol);
       // Elements are ordered i fastest over the tensor grid of knot spans; boundary faces are those
       // on the first or last span in some direction, on a cube face that is on the surface.
       const int n[3] = {static_cast<int>(bezier::element_spans(t.knots[0], t.degree).size()),
@@ -359,7 +360,7 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
           for (int side = 0; side < 2; ++side)
             if (t.boundary[2 * axis + side] && idx[axis] == (side ? n[axis] - 1 : 0)) boundary.push_back({offset + e, axis, side});
       }
-      r.hexes.insert(r.hexes.end(), hexes.begin(), hexes.end());
+      r.hexes.insert(r.hexes.end(), std::make_move_iterator(hexes.begin()), std::make_move_iterator(hexes.end()));
       block.insert(block.end(), hexes.size(), static_cast<int>(&t - ts.data()));
     }
   }
