@@ -163,6 +163,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   if (params.optimize_sweeps > 0) {
     core::LogSection s("optimization of the worst Jacobian");
     op.sweeps = params.optimize_sweeps;
+    op.stop_at = params.stop_at;
     op.joint_rounds = params.joint_rounds;
     op.cycles = params.optimize_cycles;
     op.trilinear_sweeps = params.trilinear_sweeps;

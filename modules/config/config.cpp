@@ -224,6 +224,7 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("degree", c.tmesh.degree, 1, 5);
     s.get("pillow_layers", c.tmesh.pillow_layers, 0, 4);
     s.get("optimize_sweeps", c.tmesh.optimize_sweeps, 0, 100);
+    s.get("stop_at", c.tmesh.stop_at, 0.0, 1.0);
     s.get("joint_rounds", c.tmesh.joint_rounds, 0, 100);
     s.get("optimize_cycles", c.tmesh.optimize_cycles, 1, 100);
     s.get("trilinear_sweeps", c.tmesh.trilinear_sweeps, 0, 100);
@@ -444,6 +445,7 @@ std::string to_yaml(const Config& c) {
   e << YAML::Key << "degree" << YAML::Value << c.tmesh.degree;
   e << YAML::Key << "pillow_layers" << YAML::Value << c.tmesh.pillow_layers;
   e << YAML::Key << "optimize_sweeps" << YAML::Value << c.tmesh.optimize_sweeps;
+  e << YAML::Key << "stop_at" << YAML::Value << c.tmesh.stop_at;
   e << YAML::Key << "joint_rounds" << YAML::Value << c.tmesh.joint_rounds;
   e << YAML::Key << "optimize_cycles" << YAML::Value << c.tmesh.optimize_cycles;
   e << YAML::Key << "trilinear_sweeps" << YAML::Value << c.tmesh.trilinear_sweeps;

@@ -1226,6 +1226,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       continue;
     }
     ++r.joint_rounds;
+    if (after >= params.stop_at && all_valid()) return;  // OptimizeParams::stop_at
     rest_only = false;
     refused_ids.clear();  // the nodes moved: the same selection is a new problem
     const bool progress = (invalid_before > 0 && invalid_before - invalid >= std::max(1.0, params.min_fixed_rel * invalid_before)) ||
@@ -1297,6 +1298,10 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     });
     if (bad.empty()) {
       r.stop_reason = "no_element_below_target";
+      break;
+    }
+    if (q[bad.front()].valid && q[bad.front()].scaled >= params.stop_at) {  // the worst first: every element valid and above it
+      r.stop_reason = "reached_stop_at";
       break;
     }
     int moved = 0;
@@ -1497,6 +1502,7 @@ void check(const OptimizeParams& params) {
   if ((params.check_points != 0 && (params.check_points < 2 || params.check_points > 32)) || !(params.check_tolerance >= 0 && params.check_tolerance <= 1))
     throw core::ConfigError("tmesh optimization: check_points must be 0 or in [2, 32] and check_tolerance in [0, 1]");
   if (params.cycles < 1 || params.cycles > 100) throw core::ConfigError("tmesh.optimize_cycles must be in [1, 100], got " + std::to_string(params.cycles));
+  if (!(params.stop_at >= 0 && params.stop_at <= 1)) throw core::ConfigError("tmesh.stop_at must be in [0, 1], got " + std::to_string(params.stop_at));
   if (params.trilinear_sweeps < 0 || params.trilinear_sweeps > 100 || !(params.trilinear_target >= -1 && params.trilinear_target <= 1))
     throw core::ConfigError("tmesh optimization: trilinear_sweeps must be in [0, 100] and trilinear_target in [-1, 1]");
   if (params.joint_rounds < 0 || params.joint_rounds > 100 || params.joint_evaluations < 1 || params.joint_evaluations > 100000 ||
@@ -1671,6 +1677,10 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
       continue;
     }
     if (r.stop_reason == "no_element_below_target") break;
+    if (cycle_invalid_end == 0 && cycle_end >= params.stop_at) {
+      r.stop_reason = "reached_stop_at";
+      break;
+    }
     if (cycle_invalid_end >= cycle_invalid && cycle_end < cycle_start + params.cycle_min_gain &&
         !(cycle_invalid_end > 0 && worst_valid() >= rest_start + params.cycle_min_gain))
       break;

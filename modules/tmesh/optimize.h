@@ -49,6 +49,12 @@ namespace volts::tmesh {
 struct OptimizeParams {
   int sweeps = 4;             ///< bound on passes over the elements below `target` [0, 100]; 0 = no optimization at all
   double target = 0.5;        ///< elements whose sampled scaled Jacobian is below this are improved
+  /// Stop early: once every element is certified valid, its worst sampled figure at least this
+  /// and no element found to dip between the samples (check_points), the rounds, sweeps and cycles
+  /// end there ("reached_stop_at"). The elements chosen and their objective stay the target's, so
+  /// up to that point the run is the same as without it: a quicker end, lower than the target.
+  /// 1 = off (run to the target) [0, 1].
+  double stop_at = 1.0;
   double margin = 0.25;       ///< a node's search looks at its elements below target + margin (the move is checked on all)
   int gauss_points = 4;       ///< Gauss points per direction of the sample (plus the 8 corners); extract's figure uses degree + 1
   /// The sample's other points: a uniform grid of this many per direction, faces, edges and
@@ -207,7 +213,7 @@ struct OptimizeResult {
   int nodes_moved = 0;
   int sweeps = 0;                           ///< sweeps run, over all cycles (a cycle stops early when a sweep moves nothing)
   int sweeps_cut_at_node_bound = 0;         ///< sweeps that stopped at `max_nodes_per_sweep`
-  /// Why it stopped: "no_element_below_target", "no_move" (a sweep moved nothing), "stalled" (`patience`
+  /// Why it stopped: "no_element_below_target", "reached_stop_at", "no_move" (a sweep moved nothing), "stalled" (`patience`
   /// sweeps in a row made too little progress, see min_gain), "disabled" (0 sweeps), "sweep_bound" (`sweeps` ran
   /// out while moves still helped; logged as a warning) or "cycle_bound" (the last cycle's check found
   /// elements that dip between the samples, check_points; a warning too).

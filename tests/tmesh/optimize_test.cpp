@@ -318,6 +318,42 @@ TEST(Optimize, CyclesGoOnWhereOneCycleStops) {
   EXPECT_GE(gained, 1);  // cycles are not a no-op on this family
 }
 
+// OptimizeParams::stop_at: over a mild and a folded twist, a run told to stop halfway between the start and
+// where the full run ends stops there, all valid and at least at stop_at, never above the full
+// run and in no more rounds; 1 (off) is the full run exactly.
+TEST(Optimize, StopAtEndsTheRunOnceTheWorstReachesIt) {
+  int stopped = 0;
+  for (const double twist : {0.8, 1.8})
+    for (int pillow = 0; pillow <= 1; ++pillow) {
+      tmesh::OptimizeParams op = twist_family_params();
+      op.cycles = 4;
+      std::vector<tmesh::TMesh> full = blocks(pillow, twist), off = blocks(pillow, twist), early = blocks(pillow, twist);
+      const tmesh::OptimizeResult rf = tmesh::optimize(full, op);
+      op.stop_at = 1.0;
+      const tmesh::OptimizeResult ro = tmesh::optimize(off, op);
+      EXPECT_EQ(ro.min_after, rf.min_after);
+      EXPECT_EQ(ro.joint_rounds, rf.joint_rounds);
+      if (rf.invalid_after > 0 || rf.min_after < std::max(rf.min_before, 0.0) + 0.05) continue;  // nothing to stop halfway
+      op.stop_at = 0.5 * (std::max(rf.min_before, 0.0) + rf.min_after);
+      const tmesh::OptimizeResult re = tmesh::optimize(early, op);
+      std::printf("twist %.1f pillow %d: worst %.4f -> full %.4f in %d rounds; stop_at %.4f: %.4f in %d rounds (%s)\n", twist, pillow, rf.min_before,
+                  rf.min_after, rf.joint_rounds, op.stop_at, re.min_after, re.joint_rounds, re.stop_reason.c_str());
+      EXPECT_EQ(re.stop_reason, "reached_stop_at");
+      EXPECT_EQ(re.invalid_after, 0);
+      EXPECT_GE(re.min_after, op.stop_at);
+      EXPECT_LE(re.min_after, rf.min_after + 1e-12);
+      EXPECT_LE(re.joint_rounds, rf.joint_rounds);
+      stopped += re.joint_rounds < rf.joint_rounds ? 1 : 0;
+    }
+  EXPECT_GE(stopped, 1);  // it ends some runs earlier
+  std::vector<tmesh::TMesh> ts = blocks(0);
+  for (const double bad : {-0.1, 1.5}) {
+    tmesh::OptimizeParams p;
+    p.stop_at = bad;
+    EXPECT_THROW(tmesh::optimize(ts, p), core::ConfigError);
+  }
+}
+
 // The trilinear guard (OptimizeParams::trilinear_guard): over the twists, with the trilinear pass
 // off, the Bézier passes never lower the Bézier worst figure nor lose a certificate, and where
 // every element starts certified valid no corner hex ends below min(its worst at the start, 0)
