@@ -6,6 +6,8 @@
 
 #include "bezier/bezier_hex.h"
 #include "bezier/bezier_tet.h"
+#include "bezier/bspline.h"
+#include "bezier/bspline_volume.h"
 
 namespace volts::bezier::testing {
 
@@ -21,6 +23,24 @@ inline BezierHex perturbed_hex(std::mt19937& rng, std::array<int, 3> d, double a
     if (rational) h.weights.push_back(w(rng));
   }
   return h;
+}
+
+/// A curved rational cubic B-spline volume of 2 x 2 x 1 elements over about [0,1]² x [0,0.5]:
+/// control points bent (y + 0.3 x²) and jittered by ±0.08, weights in [0.5, 2].
+inline TensorBSplineVolume curved_rational_volume(std::mt19937& rng) {
+  std::uniform_real_distribution<double> jitter(-0.08, 0.08), weight(0.5, 2.0);
+  TensorBSplineVolume v;
+  v.degree = {3, 3, 3};
+  v.knots = {open_uniform_knots(2, 3), open_uniform_knots(2, 3), open_uniform_knots(1, 3)};
+  const auto n = v.num_points();
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const double u = double(i) / (n[0] - 1), s = double(j) / (n[1] - 1), w = double(k) / (n[2] - 1);
+        v.points.emplace_back(u + jitter(rng), s + 0.3 * u * u + jitter(rng), 0.5 * w + jitter(rng));
+        v.weights.push_back(weight(rng));
+      }
+  return v;
 }
 
 /// Degree-n tet: the unit tet's domain points jittered by ±amp, optional random weights.

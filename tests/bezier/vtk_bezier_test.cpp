@@ -23,6 +23,7 @@
 #include "bezier/bspline_volume.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "element_factory.h"
 
 namespace fs = std::filesystem;
 using namespace volts;
@@ -41,18 +42,8 @@ fs::path output_dir(const std::string& test) {
 // Cubic (and one anisotropic) rational hexes of a curved B-spline volume: 2x2x1 elements.
 std::vector<BezierHex> sample_hexes() {
   std::mt19937 rng(41);
-  std::uniform_real_distribution<double> jitter(-0.08, 0.08), weight(0.5, 2.0);
-  TensorBSplineVolume v;
-  v.degree = {3, 3, 3};
-  v.knots = {open_uniform_knots(2, 3), open_uniform_knots(2, 3), open_uniform_knots(1, 3)};
-  const auto n = v.num_points();
-  for (int k = 0; k < n[2]; ++k)
-    for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i) {
-        const double u = double(i) / (n[0] - 1), s = double(j) / (n[1] - 1), w = double(k) / (n[2] - 1);
-        v.points.emplace_back(u + jitter(rng), s + 0.3 * u * u + jitter(rng), 0.5 * w + jitter(rng));
-        v.weights.push_back(weight(rng));
-      }
+  std::uniform_real_distribution<double> jitter(-0.08, 0.08);
+  const TensorBSplineVolume v = volts::bezier::testing::curved_rational_volume(rng);
   std::vector<BezierHex> hexes = extract_bezier_hexes(v);
   // An anisotropic, polynomial one to check HigherOrderDegrees.
   BezierHex a;

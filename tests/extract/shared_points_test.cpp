@@ -9,8 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "bezier/bspline.h"
-#include "bezier/bspline_volume.h"
+#include "bezier/element_factory.h"
 #include "bezier/vtk_bezier.h"
 #include "common/test_util.h"
 #include "core/errors.h"
@@ -22,22 +21,10 @@ using Eigen::Vector3d;
 
 namespace {
 
-// Rational cubic B-spline volume of 2 x 2 x 1 elements, curved, weights in [0.5, 2].
+// The Bézier elements of a curved rational cubic volume of 2 x 2 x 1 elements.
 std::vector<bezier::BezierHex> rational_hexes() {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> jitter(-0.08, 0.08), weight(0.5, 2.0);
-  bezier::TensorBSplineVolume v;
-  v.degree = {3, 3, 3};
-  v.knots = {bezier::open_uniform_knots(2, 3), bezier::open_uniform_knots(2, 3), bezier::open_uniform_knots(1, 3)};
-  const auto n = v.num_points();
-  for (int k = 0; k < n[2]; ++k)
-    for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i) {
-        const double u = double(i) / (n[0] - 1), s = double(j) / (n[1] - 1), w = double(k) / (n[2] - 1);
-        v.points.emplace_back(u + jitter(rng), s + 0.3 * u * u + jitter(rng), 0.5 * w + jitter(rng));
-        v.weights.push_back(weight(rng));
-      }
-  return bezier::extract_bezier_hexes(v);
+  return bezier::extract_bezier_hexes(bezier::testing::curved_rational_volume(rng));
 }
 
 }  // namespace
