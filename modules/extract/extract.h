@@ -124,7 +124,7 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& t, const std::vector<b
 GlobalBasis bezier_basis(const std::vector<bezier::BezierHex>& hexes, bool keep_operators = true);
 
 /// The points of a connected .vtu of the hexes (bezier::write_bezier_vtu's `shared`): control
-/// points closer than point_tolerance(bbox, 1e-12) with weights equal to 1e-12 are one point, so
+/// points closer than point_tolerance(bbox, 1e-12) with weights equal to 1e-12 relative are one point, so
 /// neighbouring elements share their face points (the spline is C0 there: its Bézier points
 /// coincide up to rounding); points with other weights stay apart.
 std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <limits>
 
 namespace volts::extract {
@@ -47,6 +46,7 @@ PointIndex::Key PointIndex::key(const Eigen::Vector3d& x) const {
 }
 
 int PointIndex::find(const Eigen::Vector3d& x) const {
+  if (heads_.empty()) return -1;
   // The cells within tol of x: its own, and a neighbour only along an axis where x is within tol
   // of the cell's side (cells are >= 1000 tol wide: almost always one cell to look in).
   std::array<std::array<long long, 2>, 3> range{};
@@ -59,7 +59,6 @@ int PointIndex::find(const Eigen::Vector3d& x) const {
   for (long long i = range[0][0]; i <= range[0][1]; ++i)
     for (long long j = range[1][0]; j <= range[1][1]; ++j)
       for (long long l = range[2][0]; l <= range[2][1]; ++l) {
-        if (heads_.empty()) continue;
         for (int n = heads_[slot({i, j, l})]; n >= 0; n = next_[static_cast<std::size_t>(n)])
           if ((points_[static_cast<std::size_t>(n)] - x).norm() <= tol_) return n;
       }

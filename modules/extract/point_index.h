@@ -31,12 +31,11 @@ class PointIndex {
   Eigen::Vector3d origin_;
   double tol_ = 0, cell_ = 1;
   std::vector<Eigen::Vector3d> points_;
-  // Per cell its last point; each point links to the previous one in its cell (-1 ends): no
-  // allocation per cell, most cells hold one point. An open-addressing table (linear probing,
-  // at most half full): std::unordered_map's node per cell made merging the points of a .vtu
-  // (573,440 on the eight) cost 0.1 s.
-  // A slot holds the cell's last point alone (the cell is that point's key): 4 bytes a slot, as
-  // memory first touched costs more than the arithmetic on this project's VMs.
+  // Per cell its last point; each point links to the previous one in its cell (-1 ends). The
+  // cells are an open-addressing table (linear probing, at most half full) whose slot holds the
+  // cell's last point alone (its key is that point's): 4 bytes a slot. std::unordered_map's node
+  // per cell made merging the eight's 573,440 .vtu points cost 0.1 s; memory touched the first
+  // time costs more than the arithmetic on this project's VMs.
   std::vector<int> heads_;  // -1: empty slot
   std::size_t cells_ = 0;
   std::vector<int> next_;

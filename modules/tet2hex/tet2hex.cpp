@@ -11,10 +11,10 @@
 
 #include "bezier/bernstein.h"
 #include "bezier/bernstein_poly.h"
-#include "extract/extract.h"
 #include "bezier/vtk_bezier.h"
 #include "core/errors.h"
 #include "core/log.h"
+#include "extract/extract.h"
 #include "extract/point_index.h"
 #include "quality/quality.h"
 #include "surface/mesh_json.h"
