@@ -211,10 +211,10 @@ int run_stage(int argc, char** argv, const std::string& stage, const std::string
   }
 }
 
-std::vector<std::string> stage_environment(char** environ) {
+std::vector<std::string> stage_environment(char** vars) {
   std::vector<std::string> env;
   bool tunables = false;
-  for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
+  for (char** e = vars; e != nullptr && *e != nullptr; ++e) {
     std::string v = *e;
     if (v.rfind("GLIBC_TUNABLES=", 0) == 0) {
       tunables = true;

@@ -71,7 +71,7 @@ ClassifyInput read_classify_input(const StageContext& ctx);
 int run_stage(int argc, char** argv, const std::string& stage, const std::string& help,
               const std::function<core::Json(StageContext&)>& body);
 
-/// The environment the driver starts the stages with: `environ` (null-terminated "NAME=value"
+/// The environment the driver starts the stages with: `vars` (null-terminated "NAME=value"
 /// strings) plus glibc.malloc.hugetlb=1 in GLIBC_TUNABLES (appended to the tunables given, or a
 /// new GLIBC_TUNABLES) unless that tunable is set already, which then stands. malloc then asks for
 /// transparent huge pages (madvise; nothing changes where THP is "never"). Why: on the VMs volts is
@@ -79,6 +79,6 @@ int run_stage(int argc, char** argv, const std::string& stage, const std::string
 /// 14,700 such faults); with huge pages the eight's run is ~10 % shorter and the rod's tmesh
 /// 11.4 -> 10.3 s (docs/benchmarks.md "Session 46"). GLIBC_TUNABLES is read when a process
 /// starts, so only a parent can set it.
-std::vector<std::string> stage_environment(char** environ);
+std::vector<std::string> stage_environment(char** vars);
 
 }  // namespace volts::pipeline
