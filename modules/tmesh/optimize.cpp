@@ -1669,6 +1669,14 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
       if (inv < kept.invalid || (inv == kept.invalid && w > kept.worst)) kept = {net_points(blocks), w, inv, cycle + 1};
     }
     if (dips > 0) {
+      // The dips are now among the figures: when none is below stop_at, the run has reached it.
+      double w = 0;
+      int inv = 0;
+      summary(&w, &inv);
+      if (inv == 0 && w >= params.stop_at) {
+        r.stop_reason = "reached_stop_at";
+        break;
+      }
       if (cycle + 1 == params.cycles) {
         r.stop_reason = "cycle_bound";
         core::log_warning("optimization stopped at its bound of " + std::to_string(params.cycles) +

@@ -50,7 +50,7 @@ struct OptimizeParams {
   int sweeps = 4;             ///< bound on passes over the elements below `target` [0, 100]; 0 = no optimization at all
   double target = 0.5;        ///< elements whose sampled scaled Jacobian is below this are improved
   /// Stop early: once every element is certified valid, its worst sampled figure at least this
-  /// and no element found to dip between the samples (check_points), the rounds, sweeps and cycles
+  /// and no element found to dip below it between the samples (check_points), the rounds, sweeps and cycles
   /// end there ("reached_stop_at"). The elements chosen and their objective stay the target's, so
   /// up to that point the run is the same as without it: a quicker end, lower than the target.
   /// 1 = off (run to the target) [0, 1].

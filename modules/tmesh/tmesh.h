@@ -38,7 +38,7 @@ struct Params {
   /// is below 0.5, a sweep moves nothing, or two sweeps in a row stall (OptimizeParams); 0 = none [0, 100].
   int optimize_sweeps = 40;
   /// The optimization stops once every element is certified valid with its worst sampled scaled
-  /// Jacobian at least this and none dips between the samples (OptimizeParams::stop_at); 1 = off [0, 1].
+  /// Jacobian at least this and none dips below it between the samples (OptimizeParams::stop_at); 1 = off [0, 1].
   double stop_at = 1.0;
   /// Joint L-BFGS rounds before the per-node sweeps, their bound on evaluations each, the
   /// sharpness of their soft minimum and the window they narrow to after a refused step

@@ -354,6 +354,43 @@ TEST(Optimize, StopAtEndsTheRunOnceTheWorstReachesIt) {
   }
 }
 
+// stop_at with dips found between the samples (session 47): a cycle whose check puts elements on
+// the check grid still ends the run when none of them (and no other element) is below stop_at —
+// their figures are then measured on the check grid. On the pillowed twist 1.2 at the corner +
+// Gauss sample (grid_points 2, where the check finds dips: the test above), with stop_at at one
+// cycle's worst on the check grid: the run stops with reached_stop_at after a cycle whose check
+// found dips (more elements on the check grid than the run one cycle shorter), before its bound.
+TEST(Optimize, StopAtCountsTheDipsFoundBetweenTheSamples) {
+  tmesh::OptimizeParams op = twist_family_params();
+  op.grid_points = 2;
+  op.check_points = 9;
+  op.cycles = 1;
+  std::vector<tmesh::TMesh> one = blocks(1, 1.2);
+  const tmesh::OptimizeResult r1 = tmesh::optimize(one, op);
+  ASSERT_EQ(r1.invalid_after, 0);
+  ASSERT_GT(r1.elements_on_check_grid, 0);
+  op.stop_at = r1.min_after_checked;
+  op.cycles = 4;
+  std::vector<tmesh::TMesh> ts = blocks(1, 1.2);
+  const tmesh::OptimizeResult r = tmesh::optimize(ts, op);
+  ASSERT_GE(r.cycles, 2);
+  op.cycles = r.cycles - 1;
+  std::vector<tmesh::TMesh> shorter = blocks(1, 1.2);
+  const tmesh::OptimizeResult rs = tmesh::optimize(shorter, op);
+  std::printf("stop_at %.4f: %d cycles (%s), worst %.4f, %d elements on the check grid (%d one cycle before)\n", op.stop_at, r.cycles,
+              r.stop_reason.c_str(), r.min_after_checked, r.elements_on_check_grid, rs.elements_on_check_grid);
+  EXPECT_EQ(r.stop_reason, "reached_stop_at");
+  EXPECT_LT(r.cycles, 4);
+  EXPECT_GT(r.elements_on_check_grid, rs.elements_on_check_grid);  // its last check found dips
+  EXPECT_GE(r.min_after_checked, op.stop_at);
+  // Every element is certified valid and its field on the check grid at least stop_at, up to
+  // check_tolerance for those not put on it (their dip was within the tolerance).
+  for (const bezier::BezierHex& h : test::hexes(ts)) {
+    EXPECT_EQ(bezier::certify(h).status, bezier::Validity::valid);
+    EXPECT_GE(bezier::sample_jacobian(h, 2, 9).min_scaled, op.stop_at - op.check_tolerance - 1e-12);
+  }
+}
+
 // The trilinear guard (OptimizeParams::trilinear_guard): over the twists, with the trilinear pass
 // off, the Bézier passes never lower the Bézier worst figure nor lose a certificate, and where
 // every element starts certified valid no corner hex ends below min(its worst at the start, 0)
