@@ -15,6 +15,7 @@
 #include "core/errors.h"
 #include "core/log.h"
 #include "core/stage_file.h"
+#include "run_summary.h"
 #include "stage_main.h"
 
 extern char** environ;
@@ -155,6 +156,8 @@ int run(int argc, char** argv) {
       return rc;
     }
   }
+  // Table 1's columns once the route's last stage ran (report key `summary`, docs/formats.md).
+  if (to == static_cast<int>(stages.size()) - 1) core::update_report_entry(workdir, "summary", pipeline::run_summary(core::read_report(workdir), stages));
   print_summary(workdir, stages, from, to);
   const fs::path vtu = fs::path(workdir) / "bezier.vtu";
   if (to == static_cast<int>(stages.size()) - 1 && fs::exists(vtu)) std::cout << "\nopen in ParaView: " << fs::absolute(vtu).string() << "\n";

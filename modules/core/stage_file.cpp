@@ -1,6 +1,7 @@
 #include "core/stage_file.h"
 
 #include <filesystem>
+#include <functional>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -66,11 +67,23 @@ Json read_report(const std::string& workdir) {
   }
 }
 
-void update_report(const std::string& workdir, const std::string& stage, const Json& figures) {
+namespace {
+// Read, change and write DIR/report.json back atomically.
+void edit_report(const std::string& workdir, const std::function<void(Json&)>& change) {
   Json r = read_report(workdir);
   r["producer"] = producer();
-  r["stages"][stage] = figures;
+  change(r);
   write_text_atomically((std::filesystem::path(workdir) / "report.json").string(), r.dump(2) + "\n");
+}
+}  // namespace
+
+void update_report(const std::string& workdir, const std::string& stage, const Json& figures) {
+  edit_report(workdir, [&](Json& r) { r["stages"][stage] = figures; });
+}
+
+void update_report_entry(const std::string& workdir, const std::string& key, const Json& value) {
+  if (key == "stages" || key == "producer") throw InvalidInputError("update_report_entry: '" + key + "' is written by update_report");
+  edit_report(workdir, [&](Json& r) { r[key] = value; });
 }
 
 }  // namespace volts::core

@@ -71,6 +71,9 @@ const Json& require(const Json& j, const std::string& key, const std::string& fi
 /// Merges `figures` as stages.<stage> into DIR/report.json (created if missing), atomically.
 void update_report(const std::string& workdir, const std::string& stage, const Json& figures);
 
+/// Sets the top-level `key` (not "stages" or "producer") of DIR/report.json to `value`, atomically.
+void update_report_entry(const std::string& workdir, const std::string& key, const Json& value);
+
 /// Reads DIR/report.json, or an empty object if there is none.
 Json read_report(const std::string& workdir);
 

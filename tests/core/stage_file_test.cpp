@@ -116,6 +116,19 @@ TEST(Report, StagesAccumulate) {
   EXPECT_EQ(r["stages"]["extract"]["bezier_elements"].get<int>(), 512);
 }
 
+TEST(Report, TopLevelEntriesBesideTheStages) {
+  TempDir d;
+  core::update_report(d.path.string(), "classify", {{"corners", 8}});
+  core::update_report_entry(d.path.string(), "summary", {{"tmesh_nodes", 11240}});
+  core::update_report(d.path.string(), "extract", {{"bezier_elements", 512}});
+  const auto r = core::read_report(d.path.string());
+  EXPECT_EQ(r["summary"]["tmesh_nodes"].get<int>(), 11240);
+  EXPECT_EQ(r["stages"]["classify"]["corners"].get<int>(), 8);
+  EXPECT_THROW(core::update_report_entry(d.path.string(), "stages", core::Json::object()), core::InvalidInputError);
+  EXPECT_EQ(core::read_report(d.path.string())["stages"].size(), 2u);
+  EXPECT_EQ(d.count(), 1u);  // no temporary left
+}
+
 // Integers read from JSON are checked (core/stage_file.h): a number that is not a whole number in
 // the type's range is a json type_error, not undefined behaviour (fuzz_stage_polycube: 4.7e126 as
 // a triangle index).

@@ -263,6 +263,22 @@ TEST(Pipeline, TorusRunsEndToEndAsARingOfFourCubes) {
   EXPECT_LT(x["hausdorff_rel"].get<double>(), 0.005);
   EXPECT_LT(x["volume_rel_error"].get<double>(), 0.005);
   EXPECT_EQ(x["undecided"], 0);
+  // The report's summary: Table 1's columns under the names (run_summary).
+  {
+    const core::Json& sum = rep["summary"];
+    EXPECT_EQ(sum["tmesh_nodes"], t["nodes"]);
+    EXPECT_EQ(sum["irregular_nodes_interior"], t["irregular_nodes_interior"]);
+    for (const char* k : {"bezier_elements", "min_scaled_jacobian", "max_scaled_jacobian", "frac_scaled_jacobian_above_0_5", "hausdorff_rel",
+                          "volume_rel_error", "certified_valid"})
+      EXPECT_EQ(sum[k], x[k]) << k;
+    double total = 0;
+    for (const char* st : {"classify", "split", "polycube", "tmesh", "extract"}) {
+      EXPECT_EQ(sum["time_s"][st], rep["stages"][st]["time_s"]) << st;
+      total += rep["stages"][st]["time_s"].get<double>();
+    }
+    EXPECT_NEAR(sum["time_s"]["total"].get<double>(), total, 1e-12);
+    EXPECT_EQ(sum["frac_scaled_jacobian_above_0_5"].get<double>(), 1.0);  // worst 0.534
+  }
   // Without pillowing 128 elements along the cube edges on the smooth surface folded (a 90° cube
   // angle flattened to 180°); pillowing leaves 19 at the pillow's inner corners (measured), which
   // optimization of the interior control points then makes valid (measured worst 0.25).
