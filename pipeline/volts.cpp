@@ -156,8 +156,17 @@ int run(int argc, char** argv) {
       return rc;
     }
   }
-  // Table 1's columns once the route's last stage ran (report key `summary`, docs/formats.md).
-  if (to == static_cast<int>(stages.size()) - 1) core::update_report_entry(workdir, "summary", pipeline::run_summary(core::read_report(workdir), stages));
+  // Table 1's columns once the route's last stage ran (report key `summary`, docs/formats.md);
+  // null when an earlier stage has no entry (its stage file copied in, not run here).
+  if (to == static_cast<int>(stages.size()) - 1) {
+    core::Json summary = nullptr;
+    try {
+      summary = pipeline::run_summary(core::read_report(workdir), stages);
+    } catch (const core::InvalidInputError& e) {
+      core::log_warning(std::string("report.json gets no summary: ") + e.what());
+    }
+    core::update_report_entry(workdir, "summary", summary);
+  }
   print_summary(workdir, stages, from, to);
   const fs::path vtu = fs::path(workdir) / "bezier.vtu";
   if (to == static_cast<int>(stages.size()) - 1 && fs::exists(vtu)) std::cout << "\nopen in ParaView: " << fs::absolute(vtu).string() << "\n";

@@ -442,6 +442,10 @@ TEST(Pipeline, PillowSplitsThinTheLayerAlongTheSurfaceWithTheSameSpline) {
   const test::Outcome r3 = run_from_tmesh(d / "one", d / "three", d / "three.yaml");
   ASSERT_EQ(r3.code, 0) << r3.output;
   const core::Json rep1 = core::read_report((d / "one").string()), rep3 = core::read_report((d / "three").string());
+  // The earlier stages' files were copied in, not run there: no summary, and the log says why.
+  EXPECT_TRUE(rep3["summary"].is_null());
+  EXPECT_NE(r3.output.find("report.json gets no summary: report.json: no entry for stage classify"), std::string::npos) << r3.output;
+  EXPECT_EQ(rep1["summary"]["bezier_elements"], rep1["stages"]["extract"]["bezier_elements"]);
   EXPECT_EQ(rep1["stages"]["tmesh"]["pillow_splits"], 1);
   EXPECT_EQ(rep3["stages"]["tmesh"]["pillow_splits"], 3);
   const core::Json& x1 = rep1["stages"]["extract"];
