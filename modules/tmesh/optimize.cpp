@@ -1662,17 +1662,13 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
     // Dips found: the next cycle raises them (if there is one).
     const int dips = params.sweeps > 0 ? sample_dips_densely(s, q, samples, pool, params, checked) : 0;
     r.elements_on_check_grid += dips;
-    if (params.check_points >= 2 && params.cycles > 1) {
-      double w = 0;
-      int inv = 0;
-      summary(&w, &inv);
-      if (inv < kept.invalid || (inv == kept.invalid && w > kept.worst)) kept = {net_points(blocks), w, inv, cycle + 1};
-    }
+    double w = 0;  // the figures with the dips among them
+    int inv = 0;
+    summary(&w, &inv);
+    if (params.check_points >= 2 && params.cycles > 1 && (inv < kept.invalid || (inv == kept.invalid && w > kept.worst)))
+      kept = {net_points(blocks), w, inv, cycle + 1};
     if (dips > 0) {
-      // The dips are now among the figures: when none is below stop_at, the run has reached it.
-      double w = 0;
-      int inv = 0;
-      summary(&w, &inv);
+      // When none of them is below stop_at, the run has reached it.
       if (inv == 0 && w >= params.stop_at) {
         r.stop_reason = "reached_stop_at";
         break;
