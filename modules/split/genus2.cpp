@@ -27,23 +27,6 @@ using surface::Mesh;
 
 namespace {
 
-// Genus of a face region with one boundary loop: chi = V - E + F = 1 - 2g.
-int region_genus(const Mesh& m, const std::vector<int>& label, int which) {
-  std::set<int> vs;
-  std::set<Edge> es;
-  int faces = 0;
-  for (auto f : m.faces()) {
-    if (label[f] != which) continue;
-    ++faces;
-    for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
-      vs.insert(static_cast<int>(m.target(h)));
-      es.insert(edge(static_cast<int>(m.source(h)), static_cast<int>(m.target(h))));
-    }
-  }
-  const int chi = static_cast<int>(vs.size()) - static_cast<int>(es.size()) + faces;
-  return (1 - chi) / 2;
-}
-
 // A loop of the level set {f = c} that cuts the surface into two parts of genus 1.
 bool find_waist(const Mesh& m, const std::vector<double>& f, double c, std::vector<int>* waist) {
   Mesh copy = m;
@@ -303,6 +286,22 @@ Shoulder shoulder_loop(const Mesh& mesh, const std::vector<double>& f, double wa
   if (loop.size() < 3 || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return {};  // not a simple loop
   sh.loop = std::move(loop);
   return sh;
+}
+
+int region_genus(const Mesh& m, const std::vector<int>& label, int which) {
+  std::set<int> vs;
+  std::set<Edge> es;
+  int faces = 0;
+  for (auto f : m.faces()) {
+    if (label[f] != which) continue;
+    ++faces;
+    for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+      vs.insert(static_cast<int>(m.target(h)));
+      es.insert(edge(static_cast<int>(m.source(h)), static_cast<int>(m.target(h))));
+    }
+  }
+  const int chi = static_cast<int>(vs.size()) - static_cast<int>(es.size()) + faces;
+  return (1 - chi) / 2;
 }
 
 Decomposition split_two_tori(const Mesh& input, const Params& prm, const classify::Classification* cls) {

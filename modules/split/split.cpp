@@ -129,9 +129,13 @@ Decomposition split(const surface::Mesh& mesh, const classify::Classification& c
   }
   // Several through holes, each bounded by two difference curves (a plate with bolt holes, the
   // assembly's base): one cube minus a virtual component per hole, as for one.
-  if (c.genus >= 2 && !c.corners.empty() && params.hole != "torus" && c.difference_curves() > 0 &&
-      static_cast<int>(detail::difference_rims(c).size()) == 2 * c.genus)
-    return detail::split_difference(mesh, c, params);
+  // With one rim more than the holes' (an odd count): a torus standing on such a cube, the rim
+  // its foot (the assembly: the union of a difference and a torus).
+  if (c.genus >= 2 && !c.corners.empty() && params.hole != "torus" && c.difference_curves() > 0) {
+    const int rims = static_cast<int>(detail::difference_rims(c).size());
+    if (rims == 2 * c.genus) return detail::split_difference(mesh, c, params);
+    if (rims == 2 * c.genus - 1) return detail::split_torus_on_cube(mesh, c, params);
+  }
   if (c.genus == 2) {
     if (params.genus2 != "auto") return detail::split_two_tori(mesh, params, &c);
     Params p = params;
@@ -160,7 +164,7 @@ Decomposition split(const surface::Mesh& mesh, const classify::Classification& c
   std::ostringstream s;
   s << "split: genus " << c.genus << " (" << c.patches << " patches, " << c.curves.size() << " curves, " << c.corners.size()
     << " corners) is not implemented yet: only genus 0 (a cube), genus 1 (a torus, or a cube minus a through hole), genus 2 "
-       "(two tori) and a cube minus through holes bounded by difference curves are; "
+       "(two tori), a cube minus through holes bounded by difference curves and a torus standing on such a cube are; "
        "set `route: tet` to mesh it";
   throw core::TopologyError(s.str());
 }

@@ -25,6 +25,9 @@ std::vector<double> height_field(const surface::Mesh& mesh, const Params& params
 /// (width, middle) of the gaps between consecutive saddle values, widest first.
 std::vector<std::pair<double, double>> saddle_gaps(const std::vector<double>& f, const CriticalPoints& cp);
 
+/// Genus of the faces labelled `which` (a region with one boundary loop: V - E + F = 1 - 2g).
+int region_genus(const surface::Mesh& mesh, const std::vector<int>& label, int which);
+
 /// Whether a vertex loop cuts the surface in two.
 bool loop_separates(const surface::Mesh& mesh, const std::vector<int>& loop);
 
@@ -68,6 +71,15 @@ std::vector<std::vector<int>> difference_rims(const classify::Classification& c,
 /// difference curves: a cube minus k virtual components (components 1..k, in the order of their
 /// first rim), each with its two fills as contacts with the cube.
 Decomposition split_difference(const surface::Mesh& mesh, const classify::Classification& c, const Params& params);
+
+/// A torus standing on a cube minus k >= 0 through holes (genus k + 1; Liu et al. Fig. 1, the
+/// assembly): the torus meets the cube along its foot, the one difference loop that alone cuts the
+/// surface in two, filled in its plane. Components: the cube, its k virtual components (as
+/// split_difference; the fill inside the cube's face), then the torus's cubes, the fill one whole
+/// patch of one of them; contact (cube 0, that torus cube, "filled_patch", the fill's patch).
+/// Throws core::TopologyError when the surface is not one (no or several separating rims, sharp
+/// corners on both sides, a part on the foot of another genus).
+Decomposition split_torus_on_cube(const surface::Mesh& mesh, const classify::Classification& c, const Params& params);
 
 /// A genus-0 surface whose classify patches meet like the faces of a cube: one cube whose patches
 /// are the classify patches, in their order.

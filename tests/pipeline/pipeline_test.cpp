@@ -826,6 +826,25 @@ TEST(Pipeline, FitRouteRefusesATorusNamingItsGenus) {
   EXPECT_FALSE(fs::exists(d / "w" / "bezier.vtu"));
 }
 
+// The assembly on the polycube route: split writes the union (plate minus four holes, the ring on
+// its foot: 9 components) and its ParaView file; polycube refuses it by name (exit 5, topology)
+// and writes nothing, pointing to the tet route.
+TEST(Pipeline, AssemblyIsSplitAndPolycubeNamesTheTetRoute) {
+  const fs::path d = test::fresh_dir("pipeline", "assembly_split");
+  test::write_text(d / "run.yaml", "input: {generate: assembly, resolution: 16}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
+  EXPECT_EQ(r.code, 5) << r.output;
+  EXPECT_NE(r.output.find("a torus standing on a cube minus through holes"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("route: tet"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(d / "w" / "split.vtp"));
+  EXPECT_FALSE(fs::exists(d / "w" / "polycube.stage.json"));
+  const core::Json rep = core::read_report((d / "w").string());
+  const core::Json& s = rep["stages"]["split"];
+  EXPECT_EQ(s["genus"], 5);
+  EXPECT_EQ(s["components"].size(), 9u) << s.dump();
+  EXPECT_EQ(s["tori"], 1) << s.dump();
+}
+
 TEST(Pipeline, EveryExecutableHasHelp) {
   for (const char* t : {"volts", "volts-check", "volts-classify", "volts-split", "volts-polycube", "volts-tmesh", "volts-extract", "volts-fit",
                         "volts-make-model"}) {

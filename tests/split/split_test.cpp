@@ -346,6 +346,85 @@ TEST(Split, PlateIsACubeMinusFourVirtualCylinders) {
   }
 }
 
+// The assembly (Liu et al. 2013, Fig. 1): the union of the plate minus four holes and a ring
+// standing on it. The ring meets the plate along its foot (the closed difference curve in the
+// plate's top plane z = 0.25 that alone separates the surface); the foot's fill is one whole face
+// of one ring cube and lies inside the plate cube's top face. Every input triangle is in one
+// patch (check_decomposition), so the layout's input triangles have the input's area.
+TEST(Split, AssemblyIsAPlateMinusFourHolesWithARingStandingOnItsFoot) {
+  for (int res : {16, 32}) {
+    SCOPED_TRACE("resolution " + std::to_string(res));
+    const surface::Mesh input = generated("assembly", res);
+    const auto d = run_split(input);
+    check_decomposition(d);
+    EXPECT_EQ(d.genus, 5);
+    ASSERT_EQ(d.components.size(), 9u);
+    EXPECT_EQ(d.components[0].type, split::ComponentType::cube);
+    for (int c = 1; c <= 4; ++c) EXPECT_EQ(d.components[c].type, split::ComponentType::virtual_component);
+    ASSERT_EQ(d.tori.size(), 1u);
+    EXPECT_EQ(d.tori[0].components, (std::vector<int>{5, 6, 7, 8}));
+    const auto& L = d.layout;
+    auto area = [&](const std::array<int, 3>& t) {
+      auto p = [&](int k) { const auto& q = L.points[t[k]]; return Eigen::Vector3d(q[0], q[1], q[2]); };
+      return 0.5 * (p(1) - p(0)).cross(p(2) - p(0)).norm();
+    };
+    double layout_area = 0, input_area = 0;
+    for (std::size_t t = 0; t < L.triangles.size(); ++t)
+      if (!L.filled[t]) layout_area += area(L.triangles[t]);
+    for (auto f : input.faces()) {
+      std::array<Eigen::Vector3d, 3> q;
+      int k = 0;
+      for (auto v : CGAL::vertices_around_face(input.halfedge(f), input)) q[k++] = {input.point(v).x(), input.point(v).y(), input.point(v).z()};
+      input_area += 0.5 * (q[1] - q[0]).cross(q[2] - q[0]).norm();
+    }
+    EXPECT_NEAR(layout_area, input_area, 1e-9 * input_area);
+    // The foot: one contact between the plate cube and a ring cube.
+    std::vector<split::Contact> feet;
+    for (const auto& c : d.contacts)
+      if (c.via == "filled_patch" && d.components[c.b].type == split::ComponentType::torus_cube) feet.push_back(c);
+    ASSERT_EQ(feet.size(), 1u);
+    EXPECT_EQ(feet[0].a, 0);
+    const auto& foot = L.patches[feet[0].index];
+    double x_max = 0, y_max = 0;
+    for (int t : foot.triangles) {
+      EXPECT_EQ(L.filled[t], 1);
+      for (int v : L.triangles[t]) {
+        EXPECT_NEAR(L.points[v][2], 0.25, 1e-9);
+        x_max = std::max(x_max, std::abs(L.points[v][0])), y_max = std::max(y_max, std::abs(L.points[v][1]));
+      }
+    }
+    // The torus (radii 0.8, 0.3 about the y axis at z = 0.95) cut by z = 0.25: |x| <= 0.85, |y| <= 0.3.
+    EXPECT_GT(x_max, 0.8);
+    EXPECT_LT(x_max, 0.85 + 1e-9);
+    EXPECT_LT(y_max, 0.3 + 1e-9);
+    int whole_faces = 0;
+    for (const auto& f : d.components[feet[0].b].faces) whole_faces += f.patches == std::vector<int>{feet[0].index};
+    EXPECT_EQ(whole_faces, 1) << "the foot is one whole face of its ring cube";
+    // The plate's top face (its corners at z = 0.25) holds the foot's triangles.
+    int top_faces = 0;
+    for (const auto& f : d.components[0].faces) {
+      bool top = true;
+      for (int v : f.corners) top &= std::abs(L.points[v][2] - 0.25) < 1e-9;
+      if (!top) continue;
+      ++top_faces;
+      std::set<int> tris;
+      for (int p : f.patches) tris.insert(L.patches[p].triangles.begin(), L.patches[p].triangles.end());
+      for (int t : foot.triangles) EXPECT_TRUE(tris.count(t)) << "foot triangle " << t << " is not in the plate's top face";
+    }
+    EXPECT_EQ(top_faces, 1);
+    // The ring's other patches stand on the plate, the plate's lie in it.
+    for (int c = 0; c < 9; ++c)
+      for (int p : d.components[c].patches) {
+        if (p == feet[0].index) continue;
+        for (int t : L.patches[p].triangles)
+          for (int v : L.triangles[t]) {
+            if (c >= 5) EXPECT_GT(L.points[v][2], 0.25 - 1e-9) << "ring patch " << p;
+            else EXPECT_LT(L.points[v][2], 0.25 + 1e-9) << "plate patch " << p;
+          }
+      }
+  }
+}
+
 TEST(Split, HoleForcedToTorusWithCornersIsAClearError) {
   split::Params p;
   p.hole = "torus";
