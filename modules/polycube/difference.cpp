@@ -35,7 +35,7 @@ int face_of(const std::array<Vec3, 4>& x) {
 
 }  // namespace
 
-DifferenceMap map_difference_surface(const split::Decomposition& input, const PatchMapParams& params) {
+DifferenceMap map_difference_surface(const split::Decomposition& input, const PatchMapParams& params, int foot_patch) {
   const split::Decomposition d = merge_face_patches(input);
   const split::Layout& L = d.layout;
   DifferenceMap m;
@@ -203,6 +203,16 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
       }
     }
   };
+  // A rim's bounding box shrunk about its centre to the rim's length (a square of the rim's
+  // perimeter; see the several-holes case below).
+  auto shrink_to_rim = [](std::array<double, 2>& lo, std::array<double, 2>& hi, double length) {
+    const double box = 2 * ((hi[0] - lo[0]) + (hi[1] - lo[1]));
+    const double shrink = std::clamp(box > 0 ? length / box : 1.0, 0.5, 1.0);
+    for (int b = 0; b < 2; ++b) {
+      const double c = (lo[b] + hi[b]) / 2;
+      lo[b] = c - shrink * (c - lo[b]), hi[b] = c + shrink * (hi[b] - c);
+    }
+  };
   if (nh == 1) {
     // One hole: its mean width (relative to the cube) is the ratio of the rims' length to the
     // faces' (at most 0.5: the T-mesh's pillow, one element of 1/10 at the default level, needs
@@ -252,12 +262,7 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
         for (int b = 0; b < 2; ++b) lo[b] += l[b] / 2, hi[b] += u[b] / 2;
         length += rim / 2;
       }
-      const double box = 2 * ((hi[0] - lo[0]) + (hi[1] - lo[1]));
-      const double shrink = std::clamp(box > 0 ? length / box : 1.0, 0.5, 1.0);
-      for (int b = 0; b < 2; ++b) {
-        const double c = (lo[b] + hi[b]) / 2;
-        lo[b] = c - shrink * (c - lo[b]), hi[b] = c + shrink * (hi[b] - c);
-      }
+      shrink_to_rim(lo, hi, length);
       H.lo[m.axis] = 0.0, H.hi[m.axis] = 1.0;
       H.lo[a1] = lo[0], H.hi[a1] = hi[0], H.lo[a2] = lo[1], H.hi[a2] = hi[1];
     }
@@ -296,6 +301,60 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
           throw core::TopologyError("polycube: the boxes of " + hole_name(h) + ", " + box_text(h) + ", and " + hole_name(g) + ", " + box_text(g) +
                                     ", overlap or touch");
       }
+  }
+  // The foot: a rectangle of the holed face its triangles lie in, sized as a hole's box.
+  int foot_face = -1;  // i of holed[0][i]
+  if (foot_patch >= 0) {
+    if (foot_patch >= static_cast<int>(L.patches.size()) || L.patches[static_cast<std::size_t>(foot_patch)].triangles.empty())
+      throw core::TopologyError("polycube: the foot patch " + std::to_string(foot_patch) + " is not a patch of the difference");
+    const int t0 = L.patches[static_cast<std::size_t>(foot_patch)].triangles.front();
+    for (int i = 0; i < 2; ++i) {
+      const auto& tris = L.patches[static_cast<std::size_t>(holed[0][i])].triangles;
+      if (std::find(tris.begin(), tris.end(), t0) != tris.end()) foot_face = i;
+    }
+    if (foot_face < 0)
+      throw core::TopologyError("polycube: the foot (patch " + std::to_string(foot_patch) +
+                                ") lies in neither face the holes run through; a component can stand only on a holed face");
+    std::array<double, 2> lo{1, 1}, hi{0, 0};
+    double length = 0;
+    rim_extent(holed[0][foot_face], foot_patch, lo, hi, &length);
+    shrink_to_rim(lo, hi, length);
+    FootRect F;
+    F.patch = foot_patch;
+    F.lo[m.axis] = F.hi[m.axis] = side[0][foot_face][m.axis];
+    F.lo[a1] = lo[0], F.hi[a1] = hi[0], F.lo[a2] = lo[1], F.hi[a2] = hi[1];
+    const std::string text = "[" + std::to_string(lo[0]) + ", " + std::to_string(hi[0]) + "] x [" + std::to_string(lo[1]) + ", " + std::to_string(hi[1]) + "]";
+    for (const int a : {a1, a2})
+      if (!(F.lo[a] >= 1e-3 && F.hi[a] <= 1 - 1e-3 && F.lo[a] < F.hi[a]))
+        throw core::TopologyError("polycube: the foot's rectangle " + text + " is empty or within 1e-3 of the cube's sides");
+    for (std::size_t h = 0; h < nh; ++h) {
+      bool apart = false;
+      for (const int a : {a1, a2}) apart = apart || m.holes[h].hi[a] < F.lo[a] || F.hi[a] < m.holes[h].lo[a];
+      if (!apart) throw core::TopologyError("polycube: the foot's rectangle " + text + " overlaps or touches the box of " + hole_name(h));
+    }
+    // Its corners: beside the face corner nearest by the cyclic correspondence, either way round.
+    const auto& O = L.patches[static_cast<std::size_t>(holed[0][foot_face])].corners;
+    const auto& R = L.patches[static_cast<std::size_t>(foot_patch)].corners;
+    double best = std::numeric_limits<double>::infinity();
+    std::array<int, 4> match{};
+    for (const int turn : {1, 3})
+      for (int shift = 0; shift < 4; ++shift) {
+        double cost = 0;
+        std::array<int, 4> s{};
+        for (int k = 0; k < 4; ++k) {
+          s[k] = (shift + turn * k) % 4;
+          const double e = dist(L.points[R[k]], L.points[O[s[k]]]);
+          cost += e * e;
+        }
+        if (cost < best) best = cost, match = s;
+      }
+    for (int k = 0; k < 4; ++k) {
+      Vec3 p = corner_point(O[match[k]], holed[0][foot_face]);
+      for (const int a : {a1, a2}) p[a] = p[a] > 0.5 ? F.hi[a] : F.lo[a];
+      if (!corner_at.emplace(R[k], p).second)
+        throw core::TopologyError("polycube: foot corner " + std::to_string(R[k]) + " is also a corner of the cube or of a rim");
+    }
+    m.foot = F;
   }
   // Rim corners: matched to the holed face's corners by the cyclic correspondence nearest in space
   // (translation-invariant: an off-centre hole matches alike), then put at the corner of their
@@ -346,6 +405,7 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
   for (const auto& H : m.holes)
     for (int p : d.components[static_cast<std::size_t>(H.virtual_component)].patches)
       if (!skip.count(p)) placed.push_back(p);
+  if (m.foot) placed.push_back(m.foot->patch);  // then fixed in its holed face's map below
   // Several holes: a patch's points on its face's plane exactly (the bilinear sum can miss it by
   // an ulp: 1 + 2e-16 on the plate). One hole keeps the plain sum, so that its maps stay bitwise
   // what they were.
@@ -382,7 +442,8 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
         const Vec3& x = pts[static_cast<std::size_t>(v)];  // v < solid_vertices: a triangle that is not a fill
         if (!std::isnan(x[0])) fixed[v] = {x[a1], x[a2]};
       }
-    const auto at = harmonic_positions(L, tris, fixed, params, "holed patch " + std::to_string(holed[0][i]));
+    auto at = harmonic_positions(L, tris, fixed, params, "holed patch " + std::to_string(holed[0][i]));
+    if (m.foot) unfold_free_vertices(L, tris, fixed, at, 20);  // beside the foot's corners (the holes' boxes are sized to need none)
     for (const auto& [v, x] : at) {
       if (fixed.count(v)) continue;
       Vec3 y{};
@@ -401,6 +462,7 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
     m.mirrored = true;
     for (auto& p : pts) std::swap(p[a1], p[a2]);
     for (auto& H : m.holes) std::swap(H.lo[a1], H.lo[a2]), std::swap(H.hi[a1], H.hi[a2]);
+    if (m.foot) std::swap(m.foot->lo[a1], m.foot->lo[a2]), std::swap(m.foot->hi[a1], m.foot->hi[a2]);
   }
   m.points = std::move(pts);
   return m;
@@ -453,6 +515,7 @@ core::Json to_json(const DifferenceMap& m) {
     for (const auto& h : m.holes) holes.push_back({{"virtual_component", h.virtual_component}, {"hole_lo", h.lo}, {"hole_hi", h.hi}});
     j["holes"] = std::move(holes);
   }
+  if (m.foot) j["foot"] = {{"patch", m.foot->patch}, {"lo", m.foot->lo}, {"hi", m.foot->hi}};
   return j;
 }
 
@@ -489,6 +552,14 @@ DifferenceMap difference_from_json(const core::Json& j, const std::string& file)
     m.flipped_surface_triangles = j.value("flipped_surface_triangles", 0);
     m.max_angle_distortion_deg = j.value("max_angle_distortion_deg", 0.0);
     m.max_mismatch = j.value("max_mismatch", 0.0);
+    if (j.contains("foot")) {
+      const core::Json& f = j["foot"];
+      FootRect F;
+      F.patch = core::require(f, "patch", file).get<int>();
+      F.lo = core::require(f, "lo", file).get<std::array<double, 3>>();
+      F.hi = core::require(f, "hi", file).get<std::array<double, 3>>();
+      m.foot = F;
+    }
   } catch (const core::Json::exception& x) {
     throw core::InvalidInputError(file + ": malformed difference polycube: " + x.what());
   }
@@ -515,6 +586,18 @@ DifferenceMap difference_from_json(const core::Json& j, const std::string& file)
   for (const auto& p : m.points)
     for (double x : p)
       if (!std::isfinite(x)) throw core::InvalidInputError(file + ": polycube.points holds a non-finite value");
+  if (m.foot) {
+    const FootRect& F = *m.foot;
+    bool ok = F.patch >= 0 && (F.lo[m.axis] == 0 || F.lo[m.axis] == 1) && F.hi[m.axis] == F.lo[m.axis];
+    for (int a = 0; a < 3; ++a)
+      if (a != m.axis) ok = ok && F.lo[a] > 0 && F.lo[a] < F.hi[a] && F.hi[a] < 1;
+    if (!ok) throw core::InvalidInputError(file + ": polycube.foot is not a rectangle inside a face the holes run through");
+    for (const HoleBox& H : m.holes) {
+      bool apart = false;
+      for (int a = 0; a < 3; ++a) apart = apart || (a != m.axis && (H.hi[a] < F.lo[a] || F.hi[a] < H.lo[a]));
+      if (!apart) throw core::InvalidInputError(file + ": polycube.foot overlaps or touches the box of virtual component " + std::to_string(H.virtual_component));
+    }
+  }
   return m;
 }
 

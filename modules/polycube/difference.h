@@ -22,6 +22,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,14 @@ struct HoleBox {
   std::array<double, 3> lo{0, 0, 0}, hi{1, 1, 1};
 };
 
+/// A rectangle of a holed face that another component stands on, glued there whole (the foot of
+/// the assembly's ring): its patch lies in the face's patch (not a fill: it closes the solid) and
+/// is placed on [lo, hi] (lo[axis] = hi[axis] = the face's plane) bilinearly.
+struct FootRect {
+  int patch = -1;  ///< the foot's patch in the decomposition mapped (in no component)
+  std::array<double, 3> lo{0, 0, 0}, hi{1, 1, 1};
+};
+
 /// The surface map of a difference.
 struct DifferenceMap {
   int cube = 0;                ///< the cube component
@@ -52,6 +61,7 @@ struct DifferenceMap {
   int flipped_surface_triangles = 0;
   double max_angle_distortion_deg = 0;
   double max_mismatch = 0;     ///< max distance between the points a vertex gets from different patches (0 up to rounding)
+  std::optional<FootRect> foot;  ///< the rectangle a torus stands on (torus_on_cube), if any
 };
 
 /// Maps the surface of a decomposition into one cube and k >= 1 virtual components, each meeting
@@ -60,7 +70,13 @@ struct DifferenceMap {
 /// hole, holes along different axes), when a hole's walls do not join its rims' corners straight
 /// through, or (several holes) when two boxes overlap or touch or a box comes within 1e-3 of the
 /// cube's sides, naming the holes; what map_patches throws.
-DifferenceMap map_difference_surface(const split::Decomposition& d, const PatchMapParams& params);
+/// With `foot_patch` >= 0 (a patch in no component whose triangles lie in one of the two holed
+/// faces), that patch becomes a FootRect: the rim's bilinear extent in its face shrunk to the rim's
+/// length as a hole's box is, its corners matched to the face's by the nearest cyclic
+/// correspondence (either way round: the foot may turn like the component standing on it);
+/// TopologyError when it lies in no holed face or its rectangle touches a hole's box or comes
+/// within 1e-3 of the cube's sides.
+DifferenceMap map_difference_surface(const split::Decomposition& d, const PatchMapParams& params, int foot_patch = -1);
 
 /// The solid's surface: layout vertices [0, solid_vertices) and the triangles that are not fills.
 surface::Mesh difference_solid(const split::Decomposition& d, const DifferenceMap& m);
@@ -71,7 +87,8 @@ volmap::VolumeMap difference_volume_map(const split::Decomposition& d, const Dif
 
 /// Stage-file payload: {"kind": "difference", "cube", "axis", "mirrored", "solid_vertices",
 /// "points", figures} and the holes: one hole as "virtual_component", "hole_lo", "hole_hi" (the
-/// one-hole format, unchanged), several as "holes": [{"virtual_component", "hole_lo", "hole_hi"}].
+/// one-hole format, unchanged), several as "holes": [{"virtual_component", "hole_lo", "hole_hi"}];
+/// a foot as "foot": {"patch", "lo", "hi"} (checked: on a holed face, inside it, apart from the boxes).
 /// from_json reads either form, checks sizes and ranges (every box through the unit cube along
 /// axis, strictly inside across it; the boxes of distinct virtual components, neither overlapping
 /// nor touching) and throws core::InvalidInputError naming `file`.

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
+#include <set>
 
 #include "core/errors.h"
 
@@ -135,12 +137,15 @@ std::map<int, std::array<double, 2>> harmonic_positions(const split::Layout& L, 
   return at;
 }
 
-MapQuality map_quality(const split::Layout& L, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& at) {
-  // One consistent orientation of the triangles (a patch may hold fill triangles stored the other
-  // way round: the disk where two tori meet).
-  const std::vector<char> rev = consistent_orientation(L, triangles);
+namespace {
+
+// Per triangle: 1 if its image turns against the majority or is degenerate (CGAL exact
+// orientation; the majority's is the patch's own: on the surface its triangles all turn alike,
+// once oriented consistently — a patch may hold fill triangles stored the other way round: the
+// disk where two tori meet). `rev` from consistent_orientation.
+std::vector<char> flipped_images(const split::Layout& L, const std::vector<int>& triangles, const std::vector<char>& rev,
+                                 const std::map<int, std::array<double, 2>>& at, int* good_sign = nullptr) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  MapQuality q;
   int positive = 0, negative = 0;
   std::vector<CGAL::Orientation> o;
   for (std::size_t i = 0; i < triangles.size(); ++i) {
@@ -149,17 +154,109 @@ MapQuality map_quality(const split::Layout& L, const std::vector<int>& triangles
     const std::array<std::array<double, 2>, 3> x{at.at(tr[0]), at.at(tr[1]), at.at(tr[2])};
     o.push_back(CGAL::orientation(K::Point_2(x[0][0], x[0][1]), K::Point_2(x[1][0], x[1][1]), K::Point_2(x[2][0], x[2][1])));
     positive += o.back() == CGAL::POSITIVE, negative += o.back() == CGAL::NEGATIVE;
+  }
+  const CGAL::Orientation good = positive >= negative ? CGAL::POSITIVE : CGAL::NEGATIVE;
+  if (good_sign) *good_sign = good == CGAL::POSITIVE ? 1 : -1;
+  std::vector<char> flipped(o.size());
+  for (std::size_t i = 0; i < o.size(); ++i) flipped[i] = o[i] != good;
+  return flipped;
+}
+
+}  // namespace
+
+MapQuality map_quality(const split::Layout& L, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& at) {
+  const std::vector<char> rev = consistent_orientation(L, triangles);
+  MapQuality q;
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    auto tr = L.triangles[triangles[i]];
+    if (rev[i]) std::swap(tr[1], tr[2]);
+    const std::array<std::array<double, 2>, 3> x{at.at(tr[0]), at.at(tr[1]), at.at(tr[2])};
     for (int k = 0; k < 3; ++k) {
       const double on_surface = angle_at(L.points[tr[k]], L.points[tr[(k + 1) % 3]], L.points[tr[(k + 2) % 3]], 3);
       const double in_plane = angle_at(x[k], x[(k + 1) % 3], x[(k + 2) % 3], 2);
       q.max_angle_distortion_deg = std::max(q.max_angle_distortion_deg, std::abs(in_plane - on_surface) * 180 / kPi);
     }
   }
-  // The orientation of the majority is the patch's own (its triangles all share one orientation on
-  // the surface, so any triangle against the majority, or degenerate, is a flip).
-  const CGAL::Orientation good = positive >= negative ? CGAL::POSITIVE : CGAL::NEGATIVE;
-  for (auto x : o) q.flipped_triangles += x != good;
+  const std::vector<char> flipped = flipped_images(L, triangles, rev, at);
+  q.flipped_triangles = static_cast<int>(std::count(flipped.begin(), flipped.end(), 1));
   return q;
+}
+
+namespace {
+
+// The centroid of the kernel of a vertex's link: the points from which every link edge (a, b)
+// turns `sign` (the intersection of those half-planes, clipped from a box around the link;
+// Sutherland-Hodgman). nullopt if it is empty.
+std::optional<std::array<double, 2>> kernel_centroid(const std::vector<std::array<std::array<double, 2>, 2>>& link, int sign) {
+  using P = std::array<double, 2>;
+  double lo0 = HUGE_VAL, lo1 = HUGE_VAL, hi0 = -HUGE_VAL, hi1 = -HUGE_VAL;
+  for (const auto& e : link)
+    for (const P& p : e) lo0 = std::min(lo0, p[0]), lo1 = std::min(lo1, p[1]), hi0 = std::max(hi0, p[0]), hi1 = std::max(hi1, p[1]);
+  const double pad = (hi0 - lo0) + (hi1 - lo1);
+  std::vector<P> poly{{lo0 - pad, lo1 - pad}, {hi0 + pad, lo1 - pad}, {hi0 + pad, hi1 + pad}, {lo0 - pad, hi1 + pad}};
+  for (const auto& [a, b] : link) {
+    auto side = [&](const P& x) { return sign * ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])); };
+    std::vector<P> out;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const P& p = poly[i];
+      const P& q = poly[(i + 1) % poly.size()];
+      const double sp = side(p), sq = side(q);
+      if (sp > 0) out.push_back(p);
+      if ((sp > 0) != (sq > 0)) {
+        const double t = sp / (sp - sq);
+        out.push_back({p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])});
+      }
+    }
+    poly = std::move(out);
+    if (poly.size() < 3) return std::nullopt;
+  }
+  double area = 0, cx = 0, cy = 0;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const P& p = poly[i];
+    const P& q = poly[(i + 1) % poly.size()];
+    const double c = p[0] * q[1] - q[0] * p[1];
+    area += c, cx += (p[0] + q[0]) * c, cy += (p[1] + q[1]) * c;
+  }
+  if (!(std::abs(area) > 0)) return std::nullopt;
+  return P{cx / (3 * area), cy / (3 * area)};
+}
+
+}  // namespace
+
+int unfold_free_vertices(const split::Layout& L, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& fixed,
+                         std::map<int, std::array<double, 2>>& at, int sweeps) {
+  const std::vector<char> rev = consistent_orientation(L, triangles);
+  // Per vertex: its incident triangles (indices into `triangles`).
+  std::map<int, std::vector<std::size_t>> around;
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    for (int v : L.triangles[triangles[i]]) around[v].push_back(i);
+  int sign = 1;
+  std::vector<char> flipped = flipped_images(L, triangles, rev, at, &sign);
+  long left = std::count(flipped.begin(), flipped.end(), 1);
+  for (int sweep = 0; sweep < sweeps && left > 0; ++sweep) {
+    std::map<int, std::array<double, 2>> moved = at;
+    std::set<int> free;
+    for (std::size_t i = 0; i < triangles.size(); ++i)
+      if (flipped[i])
+        for (int v : L.triangles[triangles[i]])
+          if (!fixed.count(v)) free.insert(v);
+    for (int v : free) {
+      // Its link edges, each turning like the surface's triangles when followed by v.
+      std::vector<std::array<std::array<double, 2>, 2>> link;
+      for (std::size_t i : around.at(v)) {
+        auto tr = L.triangles[triangles[i]];
+        if (rev[i]) std::swap(tr[1], tr[2]);
+        const int k = tr[0] == v ? 0 : tr[1] == v ? 1 : 2;
+        link.push_back({moved.at(tr[(k + 1) % 3]), moved.at(tr[(k + 2) % 3])});
+      }
+      if (const auto c = kernel_centroid(link, sign)) moved[v] = *c;
+    }
+    const std::vector<char> after = flipped_images(L, triangles, rev, moved);
+    const long n = std::count(after.begin(), after.end(), 1);
+    if (n >= left) break;  // no gain: keep the map as it was
+    at = std::move(moved), flipped = after, left = n;
+  }
+  return static_cast<int>(left);
 }
 
 double layout_volume(const split::Layout& layout, const std::vector<std::array<double, 3>>& at, Fills fills) {

@@ -52,6 +52,14 @@ struct MapQuality {
 /// The triangles (layout ids, oriented consistently first) at the 2D positions `at`.
 MapQuality map_quality(const split::Layout& layout, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& at);
 
+/// Moves the free vertices (not in `fixed`) of the flipped triangles of a map (map_quality's) to
+/// the mean of their neighbours' positions, sweep after sweep while that leaves fewer flipped
+/// triangles (at most `sweeps`); returns the number left. A harmonic map of a face with holes is
+/// not one-to-one where a rim the surface has smooth turns a corner in the plane (the assembly's
+/// foot: 3 triangles outside its rectangle's corners).
+int unfold_free_vertices(const split::Layout& layout, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& fixed,
+                         std::map<int, std::array<double, 2>>& at, int sweeps);
+
 /// The map of a patch's `triangles` with the vertices of `fixed` there and the rest by
 /// harmonic_positions, with its quality (map_quality); throws what harmonic_positions throws.
 PatchMap solve_patch_map(const split::Layout& layout, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& fixed,

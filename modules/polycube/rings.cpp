@@ -217,6 +217,105 @@ std::optional<Ring> connector(const split::Decomposition& d) {
   return r;
 }
 
+TorusOnCube torus_on_cube(const split::Decomposition& d) {
+  const split::Layout& L = d.layout;
+  const int n = static_cast<int>(d.components.size());
+  const std::string unsupported = "; a torus standing on a cube minus holes is one torus, one cube, its virtual components and one filled patch between the torus and the cube";
+  if (d.tori.size() != 1) throw core::TopologyError("polycube: " + std::to_string(d.tori.size()) + " tori (" + describe_tori(d) + ")" + unsupported);
+  std::vector<int> in_torus(static_cast<std::size_t>(n), 0), kept;
+  for (int c : d.tori[0].components) {
+    if (c < 0 || c >= n || d.components[c].type != split::ComponentType::torus_cube)
+      throw core::TopologyError("polycube: torus 0 lists component " + std::to_string(c) + ", which is not a torus cube" + unsupported);
+    in_torus[c] = 1;
+  }
+  int cubes = 0;
+  for (int c = 0; c < n; ++c)
+    if (!in_torus[c]) {
+      if (d.components[c].type == split::ComponentType::torus_cube)
+        throw core::TopologyError("polycube: component " + std::to_string(c) + " is a torus cube in no torus" + unsupported);
+      cubes += d.components[c].type == split::ComponentType::cube;
+      kept.push_back(c);
+    }
+  if (cubes != 1 || kept.size() < 2)
+    throw core::TopologyError("polycube: components " + join(kept) + " besides the torus (" + describe_tori(d) + ")" + unsupported);
+  TorusOnCube r;
+  int foot = -1;
+  for (const auto& x : d.contacts) {
+    if (x.via != "filled_patch" || in_torus[x.a] == in_torus[x.b]) continue;
+    if (foot >= 0) throw core::TopologyError("polycube: the torus meets the cube on filled patches " + std::to_string(foot) + " and " + std::to_string(x.index) + unsupported);
+    foot = x.index, r.foot_component = in_torus[x.a] ? x.a : x.b;
+    if (d.components[in_torus[x.a] ? x.b : x.a].type != split::ComponentType::cube)
+      throw core::TopologyError("polycube: the torus meets virtual component " + std::to_string(in_torus[x.a] ? x.b : x.a) + unsupported);
+  }
+  if (foot < 0 || foot >= static_cast<int>(L.patches.size())) throw core::TopologyError("polycube: the torus does not meet the cube on a filled patch" + unsupported);
+  const auto& ring_patches = d.components[r.foot_component].patches;
+  if (std::find(ring_patches.begin(), ring_patches.end(), foot) == ring_patches.end())
+    throw core::TopologyError("polycube: the foot (patch " + std::to_string(foot) + ") is not a whole patch of component " + std::to_string(r.foot_component));
+  r.ring = make_piece(d, d.tori[0], "the torus (components " + join(d.tori[0].components) + ")");
+
+  // The base: its components' patches, then the foot; the foot's triangles close its solid.
+  Ring& b = r.base;
+  b.component = kept;
+  std::vector<int> patches;
+  for (int c : kept) patches.insert(patches.end(), d.components[c].patches.begin(), d.components[c].patches.end());
+  std::sort(patches.begin(), patches.end());
+  patches.push_back(foot);
+  std::vector<int> local_t(L.triangles.size(), -1), local_v(L.points.size(), -1);
+  for (int p : patches)
+    for (int x : L.patches[p].triangles) local_t[x] = 0;
+  for (std::size_t x = 0; x < local_t.size(); ++x)
+    if (local_t[x] == 0) local_t[x] = static_cast<int>(b.layout_triangle.size()), b.layout_triangle.push_back(static_cast<int>(x));
+  for (int x : b.layout_triangle)
+    for (int v : L.triangles[x]) local_v[v] = 0;
+  for (std::size_t v = 0; v < local_v.size(); ++v)
+    if (local_v[v] == 0) local_v[v] = static_cast<int>(b.layout_vertex.size()), b.layout_vertex.push_back(static_cast<int>(v));
+  const std::set<int> foot_tris(L.patches[foot].triangles.begin(), L.patches[foot].triangles.end());
+  split::Decomposition& s = b.decomposition;
+  split::Layout& B = s.layout;
+  for (int v : b.layout_vertex) B.points.push_back(L.points[v]);
+  for (int x : b.layout_triangle) {
+    const auto& t = L.triangles[x];
+    B.triangles.push_back({local_v[t[0]], local_v[t[1]], local_v[t[2]]});
+    B.filled.push_back(L.filled[x] && !foot_tris.count(x) ? 1 : 0);
+  }
+  std::map<int, int> local_p, local_c;
+  for (int p : patches) {
+    split::Patch P = L.patches[p];
+    for (int& x : P.triangles) x = local_t[x];
+    for (int& v : P.corners) v = local_v[v];
+    for (auto& side : P.sides)
+      for (int& v : side) v = local_v[v];
+    local_p[p] = static_cast<int>(B.patches.size());
+    B.patches.push_back(std::move(P));
+  }
+  r.foot_patch = local_p.at(foot);
+  for (int c : kept) {
+    split::Component C = d.components[c];
+    for (int& p : C.patches) p = local_p.at(p);
+    for (auto& f : C.faces) {
+      for (int& p : f.patches) p = local_p.at(p);
+      for (int& v : f.corners) v = local_v[v];
+    }
+    local_c[c] = static_cast<int>(s.components.size());
+    s.components.push_back(std::move(C));
+  }
+  for (const auto& x : d.contacts)
+    if (local_c.count(x.a) && local_c.count(x.b)) s.contacts.push_back({local_c.at(x.a), local_c.at(x.b), x.via, local_p.at(x.index)});
+  s.genus = static_cast<int>(kept.size()) - 1;
+  s.quad_patches = static_cast<int>(B.patches.size());
+  surface::Mesh solid;
+  try {
+    solid = split::layout_mesh(B, false);  // the holes' fills left out
+  } catch (const core::InvalidInputError& e) {
+    throw core::TopologyError("polycube: the base (components " + join(kept) + ") closed by the foot is not manifold (" + e.what() + ")");
+  }
+  for (auto h : solid.halfedges())
+    if (solid.is_border(h))
+      throw core::TopologyError("polycube: the base (components " + join(kept) + ") closed by the foot is not closed (open at layout vertex " +
+                                std::to_string(b.layout_vertex[static_cast<int>(solid.target(h))]) + ")");
+  return r;
+}
+
 volmap::VolumeMap torus_volume_map(const split::Decomposition& d, const TorusSurfaceMap& m, const Params& params) {
   volmap::Params vp;
   vp.tetgen.max_volume_rel = params.tet_max_volume_rel;

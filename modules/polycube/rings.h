@@ -47,6 +47,27 @@ std::vector<Ring> rings(const split::Decomposition& d);
 /// disk. Throws what rings() throws.
 std::optional<Ring> connector(const split::Decomposition& d);
 
+/// A torus standing on a cube minus through holes (split's union, the assembly: Liu et al. 2013
+/// Fig. 1) as two pieces mapped on their own: the ring (the torus closed by its foot, a whole patch
+/// of one of its cubes: mapped as a connector's rings are) and the base (the cube minus holes
+/// closed by the foot; a difference whose foot is a rectangle of a holed face: FootRect).
+struct TorusOnCube {
+  Ring ring;  ///< the torus with its foot (Ring's ids)
+  /// The cube and its virtual components (components in whole-decomposition order, `component`
+  /// their ids there), their patches in layout order and the foot's last (in no component), the
+  /// triangles in layout order as stored (the foot's not flagged: it closes the base's solid;
+  /// the holes' fills flagged), vertices in increasing layout order (the solid's first).
+  Ring base;
+  int foot_patch = -1;      ///< the foot's patch in base.decomposition
+  int foot_component = -1;  ///< the torus cube standing on it (whole-decomposition id)
+};
+/// The pieces of a decomposition into one torus of torus cubes and one cube with k >= 1 virtual
+/// components, the torus meeting the cube on one filled patch (the foot: a whole patch of one
+/// torus cube, its triangles inside a face of the cube). Throws core::TopologyError naming the
+/// components for any other component graph, a foot that is not one whole patch of the ring, or a
+/// piece whose surface is not closed.
+TorusOnCube torus_on_cube(const split::Decomposition& d);
+
 /// The volume map of a one-torus decomposition whose layout triangles (fills included) are the
 /// torus's closed surface: TetGen tets of at most params.tet_max_volume_rel of its volume,
 /// harmonic map onto the surface map's embedding, untangled. Throws what

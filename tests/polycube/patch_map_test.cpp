@@ -87,3 +87,40 @@ INSTANTIATE_TEST_SUITE_P(Models, PatchMapOn,
                              if (!isalnum(static_cast<unsigned char>(c))) c = '_';
                            return s;
                          });
+
+// unfold_free_vertices on a square of 3 x 3 vertices whose centre (the one free vertex) is put
+// past a diagonal: some of its eight triangles flip; the centre moves into the kernel of
+// its link (here the square itself) and no triangle is flipped. Fixed vertices never move. A centre
+// whose link has an empty kernel (its neighbours folded over) is left where it is.
+TEST(UnfoldFreeVertices, MovesAFreeVertexIntoItsLinksKernel) {
+  split::Layout L;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) L.points.push_back({double(i), double(j), 0.0});
+  std::vector<int> tris;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const int a = 3 * j + i, b = a + 1, c = a + 4, d = a + 3;
+      tris.push_back(static_cast<int>(L.triangles.size())), L.triangles.push_back({a, b, c});
+      tris.push_back(static_cast<int>(L.triangles.size())), L.triangles.push_back({a, c, d});
+    }
+  L.filled.assign(L.triangles.size(), 0);
+  std::map<int, std::array<double, 2>> fixed, at;
+  for (int v = 0; v < 9; ++v)
+    if (v != 4) fixed[v] = {L.points[v][0], L.points[v][1]};
+  at = fixed;
+  at[4] = {1.8, 0.3};  // inside the square but past the diagonal: some triangles flip
+  EXPECT_GT(polycube::map_quality(L, tris, at).flipped_triangles, 0);
+  EXPECT_EQ(polycube::unfold_free_vertices(L, tris, fixed, at, 5), 0);
+  EXPECT_EQ(polycube::map_quality(L, tris, at).flipped_triangles, 0);
+  EXPECT_NEAR(at[4][0], 1.0, 1e-12);  // the kernel is the square: its centroid
+  EXPECT_NEAR(at[4][1], 1.0, 1e-12);
+  for (const auto& [v, x] : fixed) EXPECT_EQ(at[v], x);
+  // Neighbours folded over (two corners swapped): no kernel, nothing moves.
+  std::map<int, std::array<double, 2>> folded = fixed;
+  std::swap(folded[0], folded[8]);
+  folded[4] = {1.8, 0.3};
+  std::map<int, std::array<double, 2>> x = folded;
+  const int left = polycube::unfold_free_vertices(L, tris, folded, x, 5);
+  EXPECT_GT(left, 0);
+  EXPECT_EQ(x, folded);
+}
