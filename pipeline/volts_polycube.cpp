@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <functional>
 #include <optional>
+#include <tuple>
 #include <utility>
 
 #include "core/errors.h"
@@ -123,6 +124,11 @@ polycube::Structure decomposition_structure(const split::Decomposition& d, const
     } else if (x.via == "filled_patch" && A.torus >= 0 && B.torus >= 0 && A.torus != B.torus) {
       polycube::add_contact(s, "disk (patch " + std::to_string(x.index) + ")", cube_of[x.a], kTorusFace[split_face(d, x.a, -1, who)],
                             cube_of[x.b], kTorusFace[split_face(d, x.b, -1, who)]);
+    } else if (x.via == "filled_patch" && (A.torus >= 0) != (B.torus >= 0) && holes && holes->foot && (x.a == holes->cube || x.b == holes->cube)) {
+      // A torus standing on the cube minus holes: its foot on the rectangle of the holed face.
+      const int t = A.torus >= 0 ? x.a : x.b;
+      const int face = 2 * holes->axis + (holes->foot->lo[static_cast<std::size_t>(holes->axis)] > 0.5 ? 1 : 0);
+      polycube::add_contact(s, "foot (patch " + std::to_string(x.index) + ")", cube_of[t], kTorusFace[split_face(d, t, -1, who)], cube_of[holes->cube], face);
     } else if (x.via == "filled_patch" && (A.torus >= 0) != (B.torus >= 0) && (A.type == ComponentType::cube || B.type == ComponentType::cube)) {
       // A connector cube on a torus's disk: its end a = 0 on torus 0's, a = 1 on torus 1's (connector.h).
       const int t = A.torus >= 0 ? x.a : x.b, c = A.torus >= 0 ? x.b : x.a;
@@ -352,6 +358,73 @@ core::Json difference(pipeline::StageContext& ctx, const core::Json& j, const sp
   return r;
 }
 
+// A torus standing on a cube minus through holes (the assembly, Liu et al. 2013 Fig. 1; split's
+// union): the ring (the torus closed by its foot) mapped as a torus, the base (the cube minus holes
+// closed by the foot) as a difference whose foot is a rectangle of its holed face, concurrently.
+// The foot is a contact of the ring cube's face and that rectangle's face (tmesh does not glue it yet).
+core::Json torus_on_cube(pipeline::StageContext& ctx, const core::Json& j, const split::Decomposition& d) {
+  const polycube::TorusOnCube pieces = polycube::torus_on_cube(d);
+  const split::Decomposition& base = pieces.base.decomposition;
+  polycube::TorusSurfaceMap rm;
+  volmap::VolumeMap rvm, bvm;
+  polycube::DifferenceMap bm;
+  core::parallel_tasks({[&] { map_torus(ctx, pieces.ring.decomposition, "ring: ", ctx.config.polycube, rm, rvm); },
+                        [&] {
+                          {
+                            core::LogSection s("base: surface map");
+                            polycube::PatchMapParams pp;
+                            pp.weights = ctx.config.polycube.weights;
+                            bm = polycube::map_difference_surface(base, pp, pieces.foot_patch);
+                          }
+                          core::LogSection s("base: volume map");
+                          bvm = polycube::difference_volume_map(base, bm, ctx.config.polycube);
+                        }});
+  warn_if_flipped("base: ", bm.flipped_surface_triangles, bvm);
+  // The structure in the whole decomposition's ids (the base keeps its components' order).
+  polycube::DifferenceMap whole = bm;
+  whole.cube = pieces.base.component.at(static_cast<std::size_t>(bm.cube));
+  for (auto& h : whole.holes) h.virtual_component = pieces.base.component.at(static_cast<std::size_t>(h.virtual_component));
+  const polycube::Structure structure = checked_structure(d, &whole);
+  core::Json r{{"flipped_surface_triangles", rm.flipped_surface_triangles + bm.flipped_surface_triangles},
+               {"max_angle_distortion_deg", std::max(rm.max_angle_distortion_deg, bm.max_angle_distortion_deg)},
+               {"tets", rvm.tets.size() + bvm.tets.size()},
+               {"flipped_tets", rvm.flipped_tets + bvm.flipped_tets},
+               {"flipped_tets_before_untangling", rvm.flipped_tets_before_untangling + bvm.flipped_tets_before_untangling},
+               {"min_volume_ratio", std::min(rvm.min_volume_ratio, bvm.min_volume_ratio)},
+               {"holes", bm.holes.size()},
+               {"foot_lo", bm.foot->lo},
+               {"foot_hi", bm.foot->hi}};
+  for (const auto& [key, sm_flipped, sm_angle, vm] :
+       {std::tuple{"ring", rm.flipped_surface_triangles, rm.max_angle_distortion_deg, &rvm}, {"base", bm.flipped_surface_triangles, bm.max_angle_distortion_deg, &bvm}}) {
+    core::Json f = volmap::report_figures(*vm);
+    f["flipped_surface_triangles"] = sm_flipped;
+    f["max_angle_distortion_deg"] = sm_angle;
+    r[key] = f;
+  }
+  core::Json base_json{{"components", pieces.base.component},
+                       {"layout_vertex", pieces.base.layout_vertex},
+                       {"layout_triangle", pieces.base.layout_triangle},
+                       {"foot_patch", pieces.foot_patch},
+                       {"polycube", polycube::to_json(bm)},
+                       {"volume_map", volmap::to_json(bvm)}};
+  core::Json members{{"ring", polycube::to_json(pieces.ring, rm, rvm)},
+                     {"base", std::move(base_json)},
+                     {"foot_component", pieces.foot_component}};
+  const std::vector<polycube::Ring> ring{pieces.ring};
+  const std::vector<polycube::TorusSurfaceMap> ring_map{rm};
+  const std::vector<const volmap::VolumeMap*> maps{&rvm, &bvm};
+  const std::vector<std::array<double, 3>> offsets{{0, 0, 0}, {polycube::kRingSpacing, 0, 0}};
+  core::LogSection s("write");
+  core::parallel_tasks({[&] { write_stage(ctx, j, "torus_on_cube", std::move(members), structure, r); },
+                        [&] { polycube::write_rings_vtp(ctx.path("polycube.vtp"), ring, ring_map, false); },
+                        [&] { polycube::write_rings_vtp(ctx.path("polycube_mapped.vtp"), ring, ring_map, true); },
+                        [&] { polycube::write_difference_vtp(ctx.path("polycube_base.vtp"), base, bm, false); },
+                        [&] { polycube::write_difference_vtp(ctx.path("polycube_base_mapped.vtp"), base, bm, true); },
+                        [&] { volmap::write_vtu(ctx.path("polycube_tets.vtu"), maps, offsets, "piece"); },
+                        [&] { volmap::write_parameter_vtu(ctx.path("polycube_tets_mapped.vtu"), maps, offsets, "piece"); }});
+  return r;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -363,7 +436,8 @@ int main(int argc, char** argv) {
       "tori also DIR/polycube_tets.vtu and DIR/polycube_tets_mapped.vtu (the volume map's tets, physical and mapped);\n"
       "two tori meeting on a disk: one ring per torus (cell field 'ring'; ring i drawn 5i along x when mapped);\n"
       "a cube minus through holes: the unit cube minus the holes' boxes (polycube.hole_lo/hole_hi, several holes:\n"
-      "polycube.holes), tets too.",
+      "polycube.holes), tets too; a torus standing on such a cube (the assembly): the ring as polycube.vtp, the base\n"
+      "(its foot a rectangle of a holed face) as DIR/polycube_base.vtp and DIR/polycube_base_mapped.vtp.",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("split");
         const core::Json j = core::read_stage_file(in, "volts-split", 2);
@@ -374,14 +448,10 @@ int main(int argc, char** argv) {
         pipeline::check_classification(in, mesh, c);
         pipeline::check_decomposition(in, c, d);
         if (d.tori.size() == 1 && d.components.size() == d.tori[0].components.size()) return torus(ctx, j, d);
-        // A torus standing on a cube minus holes (split_torus_on_cube: the assembly) is split but
-        // not mapped yet: docs/status.md "Session 48" has the plan.
+        // A torus standing on a cube minus holes (split_torus_on_cube: the assembly).
         if (!d.tori.empty())
           for (const auto& comp : d.components)
-            if (comp.type == split::ComponentType::virtual_component)
-              throw core::TopologyError("polycube: a torus standing on a cube minus through holes (the union split writes for the "
-                                        "assembly; split.vtp shows it) cannot be mapped yet; set `route: tet` to mesh it "
-                                        "(examples/assembly-tet.yaml)");
+            if (comp.type == split::ComponentType::virtual_component) return torus_on_cube(ctx, j, d);
         if (!d.tori.empty()) return tori(ctx, j, d);  // two tori on a disk, else a TopologyError naming the components
         for (const auto& comp : d.components)
           if (comp.type == split::ComponentType::virtual_component) return difference(ctx, j, d);

@@ -827,22 +827,40 @@ TEST(Pipeline, FitRouteRefusesATorusNamingItsGenus) {
 }
 
 // The assembly on the polycube route: split writes the union (plate minus four holes, the ring on
-// its foot: 9 components) and its ParaView file; polycube refuses it by name (exit 5, topology)
-// and writes nothing, pointing to the tet route.
-TEST(Pipeline, AssemblyIsSplitAndPolycubeNamesTheTetRoute) {
-  const fs::path d = test::fresh_dir("pipeline", "assembly_split");
+// its foot: 9 components); polycube maps the ring and the base (the plate closed by the foot, the
+// foot a rectangle of its top face) without a flipped triangle or tet, the foot a contact of the
+// ring cube and the plate; tmesh refuses the kind by name (exit 5, topology), writing nothing.
+TEST(Pipeline, AssemblyGetsItsPolycubeAndTmeshNamesTheTetRoute) {
+  const fs::path d = test::fresh_dir("pipeline", "assembly_polycube");
   test::write_text(d / "run.yaml", "input: {generate: assembly, resolution: 16}\n");
   const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
   EXPECT_EQ(r.code, 5) << r.output;
-  EXPECT_NE(r.output.find("a torus standing on a cube minus through holes"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("torus_on_cube"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("route: tet"), std::string::npos) << r.output;
-  EXPECT_TRUE(fs::exists(d / "w" / "split.vtp"));
-  EXPECT_FALSE(fs::exists(d / "w" / "polycube.stage.json"));
+  for (const char* f : {"split.vtp", "polycube.stage.json", "polycube.vtp", "polycube_base.vtp", "polycube_base_mapped.vtp", "polycube_tets.vtu"})
+    EXPECT_TRUE(fs::exists(d / "w" / f)) << f;
+  EXPECT_FALSE(fs::exists(d / "w" / "tmesh.stage.json"));
   const core::Json rep = core::read_report((d / "w").string());
   const core::Json& s = rep["stages"]["split"];
   EXPECT_EQ(s["genus"], 5);
   EXPECT_EQ(s["components"].size(), 9u) << s.dump();
-  EXPECT_EQ(s["tori"], 1) << s.dump();
+  const core::Json& p = rep["stages"]["polycube"];
+  EXPECT_EQ(p["flipped_surface_triangles"], 0) << p.dump();
+  EXPECT_EQ(p["flipped_tets"], 0) << p.dump();
+  EXPECT_EQ(p["holes"], 4);
+  EXPECT_EQ(p["tori"], 1);
+  EXPECT_EQ(p["contacts"], 1);
+  const auto lo = p["foot_lo"].get<std::array<double, 3>>(), hi = p["foot_hi"].get<std::array<double, 3>>();
+  int flat = 0;
+  for (int a = 0; a < 3; ++a) {
+    flat += lo[a] == hi[a];
+    EXPECT_TRUE(lo[a] <= hi[a] && lo[a] >= 0 && hi[a] <= 1) << p.dump();
+  }
+  EXPECT_EQ(flat, 1) << "the foot is a rectangle of one face";
+  const core::Json st = core::read_stage_file((d / "w" / "polycube.stage.json").string(), "volts-polycube", 2);
+  EXPECT_EQ(st["kind"], "torus_on_cube");
+  ASSERT_EQ(st["structure"]["contacts"].size(), 1u);
+  EXPECT_NE(st["structure"]["contacts"][0]["label"].get<std::string>().find("foot"), std::string::npos);
 }
 
 TEST(Pipeline, EveryExecutableHasHelp) {
