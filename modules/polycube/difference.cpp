@@ -16,6 +16,8 @@ namespace {
 
 using Vec3 = std::array<double, 3>;
 
+constexpr double kPi = 3.14159265358979323846;
+
 double dist(const Vec3& a, const Vec3& b) { return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])); }
 
 std::string describe(const split::Decomposition& d) {
@@ -31,6 +33,56 @@ int face_of(const std::array<Vec3, 4>& x) {
   for (int a = 0; a < 3; ++a)
     if (x[0][a] == x[1][a] && x[0][a] == x[2][a] && x[0][a] == x[3][a]) ++shared, face = 2 * a;
   return shared == 1 ? face : -1;
+}
+
+// Fixes, around each corner of the foot's rectangle, the free vertices of the triangles outside
+// the foot at that corner: on a circle about the corner (half its shorter rim edge in the image),
+// spread over the 270° outside the rectangle in the order the surface has them around the corner
+// (their angles there scaled to it). The rim is smooth at the corner and its image turns 90°: a
+// harmonic map left those vertices inside the rectangle at resolution 24 (a fan whose link has
+// no kernel). `tris` are the holed face's triangles, `fixed` holds the rectangle's points.
+void fix_foot_corner_fans(const split::Layout& L, const std::vector<int>& tris, const split::Patch& foot,
+                          std::map<int, std::array<double, 2>>& fixed) {
+  const std::set<int> inside(foot.triangles.begin(), foot.triangles.end());
+  auto point = [&](int v) { return Eigen::Vector3d(L.points[v][0], L.points[v][1], L.points[v][2]); };
+  for (const int c : foot.corners) {
+    std::set<int> around;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (int t : tris) {
+      const auto& tr = L.triangles[static_cast<std::size_t>(t)];
+      if (inside.count(t) || std::find(tr.begin(), tr.end(), c) == tr.end()) continue;
+      normal += (point(tr[1]) - point(tr[0])).cross(point(tr[2]) - point(tr[0]));
+      for (int v : tr)
+        if (v != c) around.insert(v);
+    }
+    std::vector<int> rim, free;
+    for (int v : around) (fixed.count(v) ? rim : free).push_back(v);
+    if (rim.size() != 2 || free.empty() || !(normal.norm() > 0)) continue;  // not a corner with an outside fan
+    const std::array<double, 2> pc = fixed.at(c), pa = fixed.at(rim[0]), pb = fixed.at(rim[1]);
+    const double la = std::hypot(pa[0] - pc[0], pa[1] - pc[1]), lb = std::hypot(pb[0] - pc[0], pb[1] - pc[1]);
+    if (!(la > 0 && lb > 0)) continue;
+    // Physical angles about the corner from rim[0], in the face's plane.
+    const Eigen::Vector3d n = normal.normalized(), e1 = ((point(rim[0]) - point(c)) - (point(rim[0]) - point(c)).dot(n) * n).normalized(), e2 = n.cross(e1);
+    auto phi = [&](int v) {
+      const Eigen::Vector3d d = point(v) - point(c);
+      const double a = std::atan2(d.dot(e2), d.dot(e1));
+      return a < 0 ? a + 2 * kPi : a;
+    };
+    // The fan runs from rim[0] to rim[1] one way round: the way that holds every free vertex.
+    double end = phi(rim[1]);
+    bool forward = true;
+    for (int v : free) forward = forward && phi(v) < end;
+    if (!forward) end = 2 * kPi - end;
+    // In the image: from rim[0]'s direction to rim[1]'s the long way (outside the rectangle).
+    const double alpha = std::atan2(pa[1] - pc[1], pa[0] - pc[0]);
+    const double turn = (pa[0] - pc[0]) * (pb[1] - pc[1]) - (pa[1] - pc[1]) * (pb[0] - pc[0]) > 0 ? -1.0 : 1.0;  // away from the inside quarter
+    const double r = 0.5 * std::min(la, lb);
+    for (int v : free) {
+      const double t = (forward ? phi(v) : 2 * kPi - phi(v)) / end;
+      const double a = alpha + turn * t * 1.5 * kPi;
+      fixed[v] = {pc[0] + r * std::cos(a), pc[1] + r * std::sin(a)};
+    }
+  }
 }
 
 }  // namespace
@@ -442,10 +494,19 @@ DifferenceMap map_difference_surface(const split::Decomposition& input, const Pa
         const Vec3& x = pts[static_cast<std::size_t>(v)];  // v < solid_vertices: a triangle that is not a fill
         if (!std::isnan(x[0])) fixed[v] = {x[a1], x[a2]};
       }
-    auto at = harmonic_positions(L, tris, fixed, params, "holed patch " + std::to_string(holed[0][i]));
-    if (m.foot) unfold_free_vertices(L, tris, fixed, at, 20);  // beside the foot's corners (the holes' boxes are sized to need none)
+    const std::string what = "holed patch " + std::to_string(holed[0][i]);
+    auto at = harmonic_positions(L, tris, fixed, params, what);
+    // A harmonic map of a face with holes can flip triangles beside the holes' image corners: those
+    // are unfolded (nothing moves where none flips); beside the foot's corners, where that leaves
+    // flips, the corners' fans are fixed first, if that leaves fewer.
+    if (unfold_free_vertices(L, tris, fixed, at, 20) > 0 && m.foot && i == foot_face) {
+      std::map<int, std::array<double, 2>> fans = fixed;
+      fix_foot_corner_fans(L, tris, L.patches[static_cast<std::size_t>(m.foot->patch)], fans);
+      auto other = harmonic_positions(L, tris, fans, params, what);
+      if (unfold_free_vertices(L, tris, fans, other, 20) < map_quality(L, tris, at).flipped_triangles) at = std::move(other);
+    }
     for (const auto& [v, x] : at) {
-      if (fixed.count(v)) continue;
+      if (!std::isnan(pts[static_cast<std::size_t>(v)][0])) continue;  // placed above (the fans' are not yet)
       Vec3 y{};
       y[m.axis] = side[0][i][m.axis], y[a1] = x[0], y[a2] = x[1];
       put(v, y);
