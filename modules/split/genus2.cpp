@@ -524,15 +524,7 @@ Decomposition split_two_tori(const Mesh& input, const Params& prm, const classif
     }
     const std::set<int> fill_set(fill[i].begin(), fill[i].end());
     // Merge: vertices new on this torus and its non-disk triangles are appended to the layout.
-    std::vector<int> vmap(t.layout.points.size());
-    for (std::size_t v = 0; v < vmap.size(); ++v) {
-      if (v < T.layout_vertex.size()) {
-        vmap[v] = T.layout_vertex[v];
-      } else {
-        vmap[v] = static_cast<int>(d.layout.points.size());
-        d.layout.points.push_back(t.layout.points[v]);
-      }
-    }
+    const std::vector<int> vmap = merge_vertices(t.layout, T.layout_vertex, d.layout);
     std::vector<int> tmap(t.layout.triangles.size());
     for (std::size_t k = 0; k < tmap.size(); ++k) {
       if (k < T.layout_triangle.size() && fill_set.count(T.layout_triangle[k])) {

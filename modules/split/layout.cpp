@@ -228,6 +228,19 @@ Submesh submesh(const Layout& L, const std::vector<int>& triangles, const std::v
   return s;
 }
 
+std::vector<int> merge_vertices(const Layout& part, const std::vector<int>& layout_vertex, Layout& into) {
+  std::vector<int> vmap(part.points.size());
+  for (std::size_t v = 0; v < vmap.size(); ++v) {
+    if (v < layout_vertex.size()) {
+      vmap[v] = layout_vertex[v];
+    } else {
+      vmap[v] = static_cast<int>(into.points.size());
+      into.points.push_back(part.points[v]);
+    }
+  }
+  return vmap;
+}
+
 void map_ids(Decomposition& sub, const Submesh& s) {
   for (auto& p : sub.layout.patches) {
     for (int& t : p.triangles) t = s.layout_triangle[t];

@@ -67,6 +67,11 @@ struct Submesh {
 /// Throws core::TopologyError if the triangles are not a manifold surface.
 Submesh submesh(const Layout& layout, const std::vector<int>& triangles, const std::vector<char>& reversed);
 
+/// The ids in `into` of the vertices of `part`, a decomposition of a submesh whose vertices map to
+/// `layout_vertex`: those first ones keep their layout ids, the others (cuts inserted on the
+/// submesh) are appended to into.points.
+std::vector<int> merge_vertices(const Layout& part, const std::vector<int>& layout_vertex, Layout& into);
+
 /// Maps the patch and component ids of a decomposition of a submesh to layout ids.
 void map_ids(Decomposition& sub, const Submesh& s);
 

@@ -127,7 +127,7 @@ Decomposition split_torus_on_cube(const Mesh& mesh, const classify::Classificati
     std::set<int> inside;
     for (int t : fill)
       for (int v : L.triangles[static_cast<std::size_t>(t)])
-        if (std::find(foot.begin(), foot.end(), v) == foot.end()) inside.insert(local.at(v));
+        if (!on_foot.count(v)) inside.insert(local.at(v));
     disk.inside.assign(inside.begin(), inside.end());
   }
   const std::vector<int> first = section_opposite_the_foot(ring, L, foot);
@@ -138,20 +138,8 @@ Decomposition split_torus_on_cube(const Mesh& mesh, const classify::Classificati
   Decomposition d;
   d.genus = c.genus;
   d.layout.points = L.points;
-  auto vertex_map = [&](const Decomposition& part, const Submesh& s) {
-    std::vector<int> vmap(part.layout.points.size());
-    for (std::size_t v = 0; v < vmap.size(); ++v) {
-      if (v < s.layout_vertex.size()) {
-        vmap[v] = s.layout_vertex[v];
-      } else {
-        vmap[v] = static_cast<int>(d.layout.points.size());
-        d.layout.points.push_back(part.layout.points[v]);
-      }
-    }
-    return vmap;
-  };
   std::map<int, int> fill_at;  // L's fill triangle -> d's
-  const std::vector<int> bmap = vertex_map(base_d, base);
+  const std::vector<int> bmap = merge_vertices(base_d.layout, base.layout_vertex, d.layout);
   std::vector<int> btri(base_d.layout.triangles.size());
   for (std::size_t k = 0; k < btri.size(); ++k) {
     const auto& t = base_d.layout.triangles[k];
@@ -182,11 +170,11 @@ Decomposition split_torus_on_cube(const Mesh& mesh, const classify::Classificati
   }
   d.contacts = base_d.contacts;
 
-  const std::vector<int> rmap = vertex_map(ring_d, ring);
+  const std::vector<int> rmap = merge_vertices(ring_d.layout, ring.layout_vertex, d.layout);
   std::vector<int> rtri(ring_d.layout.triangles.size());
   for (std::size_t k = 0; k < rtri.size(); ++k) {
     if (k < ring.layout_triangle.size() && fill_set.count(ring.layout_triangle[k])) {
-      rtri[k] = static_cast<int>(btri[static_cast<std::size_t>(fill_at.at(ring.layout_triangle[k]))]);
+      rtri[k] = btri[static_cast<std::size_t>(fill_at.at(ring.layout_triangle[k]))];
       continue;
     }
     const auto& t = ring_d.layout.triangles[k];
