@@ -6,7 +6,8 @@
 // * the cube's faces without holes and the holes' walls: patch maps (patch_map.h) placed on their
 //   face of the cube or of their hole's box;
 // * the two holed faces (each one patch with k rims): the face minus its fills, by a harmonic map
-//   with the outer boundary and every rim fixed (the rims where the walls put them);
+//   with the outer boundary and every rim fixed (the rims where the walls put them), its flipped
+//   triangles (beside the boxes' or the foot's corners) unfolded (unfold_free_vertices);
 // * the volume: TetGen tets of the solid, harmonic map with that boundary condition, untangled
 //   (volmap).
 // Each hole's box sits where its rims lie in their faces (bilinear coordinates of the rim vertices
