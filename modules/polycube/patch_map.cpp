@@ -226,13 +226,14 @@ std::optional<std::array<double, 2>> kernel_centroid(const std::vector<std::arra
 int unfold_free_vertices(const split::Layout& L, const std::vector<int>& triangles, const std::map<int, std::array<double, 2>>& fixed,
                          std::map<int, std::array<double, 2>>& at, int sweeps) {
   const std::vector<char> rev = consistent_orientation(L, triangles);
+  int sign = 1;
+  std::vector<char> flipped = flipped_images(L, triangles, rev, at, &sign);
+  long left = std::count(flipped.begin(), flipped.end(), 1);
+  if (left == 0) return 0;  // the usual case: nothing to do
   // Per vertex: its incident triangles (indices into `triangles`).
   std::map<int, std::vector<std::size_t>> around;
   for (std::size_t i = 0; i < triangles.size(); ++i)
     for (int v : L.triangles[triangles[i]]) around[v].push_back(i);
-  int sign = 1;
-  std::vector<char> flipped = flipped_images(L, triangles, rev, at, &sign);
-  long left = std::count(flipped.begin(), flipped.end(), 1);
   for (int sweep = 0; sweep < sweeps && left > 0; ++sweep) {
     std::map<int, std::array<double, 2>> moved = at;
     std::set<int> free;
