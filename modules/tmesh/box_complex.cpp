@@ -60,11 +60,22 @@ std::optional<std::pair<int, Vec3>> BoxComplex::locate(const Vec3& x, int prefer
     return found(static_cast<std::size_t>(prefer), x);
   for (std::size_t i = 0; i < extent.size(); ++i)
     if (holds(i, x)) return found(i, x);
+  // Across a closure only from the side of the face it closes (past face fa of box a, within the
+  // face, into box b; or past fb of b into a): a point in a gap of the layout is not carried to
+  // whatever box the shift happens to reach.
+  auto past = [&](int b, int f, const Vec3& y) {
+    const auto& B = boxes[static_cast<std::size_t>(b)];
+    const int d = f / 2;
+    for (int e = 0; e < 3; ++e)
+      if (e != d && !(y[e] >= B[0][e] - t && y[e] <= B[1][e] + t)) return false;
+    return f % 2 ? y[d] >= B[1][d] - t : y[d] <= B[0][d] + t;
+  };
   for (const auto& c : closures)
     for (const double sign : {1.0, -1.0}) {
+      if (!past(sign > 0 ? c.a : c.b, sign > 0 ? c.fa : c.fb, x)) continue;
       const Vec3 y{x[0] + sign * c.shift[0], x[1] + sign * c.shift[1], x[2] + sign * c.shift[2]};
       for (std::size_t i = 0; i < extent.size(); ++i)
-        if (holds(i, y)) return found(i, y);
+        if (box[i] == (sign > 0 ? c.b : c.a) && holds(i, y)) return found(i, y);
     }
   return std::nullopt;
 }

@@ -132,7 +132,8 @@ struct BoxComplex {
   Vec3 to_frame(int cube, const Vec3& uvw) const;  ///< lo + uvw (hi - lo), also outside [0,1]^3
   /// The cube holding frame point x (within tol of its box, relative to the frame's size;
   /// `prefer` first, then in order) and x in its parameters (clamped to [0,1]^3); a point just past a
-  /// closing face is carried across it. nullopt if no box holds it.
+  /// closing face, within it, is carried across it (not a point in a gap of the layout). nullopt if
+  /// no box holds it.
   std::optional<std::pair<int, Vec3>> locate(const Vec3& x, int prefer = -1, double tol = 1e-9) const;
   /// complex_blocks' per-cube thicknesses for a pillow `thickness` thick in the frame: thickness / extent.
   std::vector<std::array<double, 3>> pillow(double thickness) const;

@@ -632,3 +632,52 @@ TEST(BoxComplex, ALensBesideTheNextRingSectorIsPillowedInThePlaneOfBoth) {
     for (int d = 0; d < 3; ++d) EXPECT_NEAR(p[d], q[d], 1e-12);
   }
 }
+
+// A ring's foot on a plate, straight as development lays it out: cube 0 (the plate cell under
+// the foot) and cube 1 beside it in a row, cube 2 (the foot cube) on cube 0, cube 3 (the ring's
+// next cube) glued to cube 2's side. Cubes 1 and 3 touch back to back without being glued (in
+// the solid the ring rises off the plate there): a crack. Refused by default, naming it; with
+// OppositePlanes::in_plane the inner copy of the crack's root moves away from it in its plane
+// (every cube finds the same point: (1 - p, p, 1) of cube 0 at the root's front end), and the
+// blocks tile the four cubes with no inverted corner (the two slabs at the root are flat there).
+TEST(CubeComplex, ACrackBesideAFootIsPillowedAwayFromItInItsPlane) {
+  tmesh::CubeComplex k;
+  k.glue.resize(4);
+  tmesh::glue_faces(k, 0, 1, 1, 0, shift(-1, 0, 0));
+  tmesh::glue_faces(k, 0, 5, 2, 4, shift(0, 0, -1));
+  tmesh::glue_faces(k, 2, 1, 3, 0, shift(-1, 0, 0));
+  const std::vector<Vec3> at{{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, {1, 0, 1}};  // each cube's place
+  try {
+    tmesh::complex_blocks(k, 4, 1);
+    ADD_FAILURE() << "a crack was not refused";
+  } catch (const core::TopologyError& e) {
+    EXPECT_NE(std::string(e.what()).find("not glued"), std::string::npos) << e.what();
+  }
+  const double p = 0.1;
+  const auto blocks = tmesh::complex_blocks(k, std::vector<std::array<int, 3>>(4, {4, 4, 4}), 1,
+                                            std::vector<std::array<double, 3>>(4, {p, p, p}), tmesh::OppositePlanes::in_plane);
+  ASSERT_EQ(blocks.size(), 4u);
+  double total = 0;
+  int flat = 0, root_copies = 0;
+  for (std::size_t c = 0; c < 4; ++c)
+    for (const Block& b : blocks[c]) {
+      std::array<Vec3, 8> x;
+      for (int i = 0; i < 8; ++i) {
+        for (int d = 0; d < 3; ++d) x[i][d] = at[c][d] + b.corners[i][d];
+        // No block reaches across the crack: cube 3's stay above it, cube 1's below.
+        if (c == 3) EXPECT_FALSE(x[i][0] > 1 + 1e-12 && x[i][2] < 1 - 1e-12);
+        if (c == 1) EXPECT_FALSE(x[i][0] > 1 + 1e-12 && x[i][2] > 1 + 1e-12);
+        EXPECT_TRUE(x[i][0] > -1e-12 && x[i][0] < 2 + 1e-12 && x[i][1] > -1e-12 && x[i][1] < 1 + 1e-12 && x[i][2] > -1e-12 && x[i][2] < 2 + 1e-12);
+        root_copies += std::abs(x[i][0] - (1 - p)) < 1e-12 && std::abs(x[i][1] - p) < 1e-12 && std::abs(x[i][2] - 1) < 1e-12;
+      }
+      double min_det = 0;
+      total += volume(x, &min_det);
+      EXPECT_GT(min_det, -1e-12) << "cube " << c;
+      flat += min_det < 1e-9;
+    }
+  EXPECT_NEAR(total, 4, 1e-9);
+  EXPECT_GT(flat, 0);
+  // The root's inner copy is a corner of the four cores and of the slabs of cubes 1 and 3 on the
+  // crack and of the front faces (y = 0) of all four.
+  EXPECT_GE(root_copies, 4 + 2 + 4);
+}
