@@ -292,12 +292,18 @@ tmesh::PolycubeMaps ring_maps(std::vector<Ring> list, const tmesh::Params& param
   return m;
 }
 
-// Glues the cube face of ring r (cubes first, first + 1, ... of k) whose corner vertices are
-// `want` (layout ids) to face a = r of the connector cube nk, corner want[i] onto the connector's
-// parameters q[i] (the corners of that face). Throws core::InvalidInputError naming `in` if no
-// face of the ring has those corners or they do not lie on it as the square q.
-void glue_connector_end(tmesh::CubeComplex& k, const std::string& in, const Ring& ring, int r, const core::Json& ring_json, int first, int nk,
-                        const std::array<int, 4>& want, const std::array<tmesh::Vec3, 4>& q) {
+// The face of one of ring r's cubes whose four corner vertices are `want` (layout ids, any
+// order): its sector, its face (2..5) and its corners (layout ids, and cube parameters: b and c
+// swapped from the sector's if swap) in the face's order, so that corners 1 and 2 are corner 0's
+// neighbours along the face's two axes. Throws core::InvalidInputError naming `in` for a
+// malformed ring, nullopt if no face has those corners.
+struct RingFace {
+  int sector = -1, face = -1;
+  std::array<int, 4> vertex{};
+  std::array<tmesh::Vec3, 4> corner{};
+};
+
+std::optional<RingFace> find_ring_face(const std::string& in, const Ring& ring, int r, const core::Json& ring_json, const std::array<int, 4>& want) {
   std::vector<int> layout_vertex;
   std::vector<std::array<int, 8>> corner_vertex;
   try {
@@ -316,47 +322,64 @@ void glue_connector_end(tmesh::CubeComplex& k, const std::string& in, const Ring
     if (v < 0 || v >= static_cast<int>(layout_vertex.size())) throw core::InvalidInputError(in + ": rings[" + std::to_string(r) + "].polycube.corner_vertex is out of range");
     return layout_vertex[static_cast<std::size_t>(v)];
   };
-  const int neck_face = r;  // a = 0 on ring 0's disk, a = 1 on ring 1's
-  bool glued = false;
-  for (int sector = 0; sector < ring.embedding.ring && !glued; ++sector)
-    for (int f = 2; f < 6 && !glued; ++f) {
+  std::array<int, 4> sorted_want = want;
+  std::sort(sorted_want.begin(), sorted_want.end());
+  for (int sector = 0; sector < ring.embedding.ring; ++sector)
+    for (int f = 2; f < 6; ++f) {
       const int d = f / 2, side = f % 2;
-      std::array<int, 4> have{};
-      std::array<tmesh::Vec3, 4> p{};
+      RingFace rf{sector, f, {}, {}};
       for (int i = 0, n = 0; i < 8; ++i)
-        if (((i >> d) & 1) == side) have[n] = cube_corner(sector, i), p[n++] = {double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)};
-      std::array<int, 4> a = have, b = want;
-      std::sort(a.begin(), a.end()), std::sort(b.begin(), b.end());
-      if (a != b) continue;
-      // The axis map taking the ring cube's face corners to the connector's and its outward
-      // normal to the connector's inward one: P = Q U^T (U's columns are unit axis vectors).
-      auto at = [&](int v) { return q[static_cast<std::size_t>(std::find(want.begin(), want.end(), v) - want.begin())]; };
-      std::array<tmesh::Vec3, 3> U{}, Q{};
-      for (int e = 0; e < 2; ++e) {
-        const tmesh::Vec3 &p0 = p[0], &p1 = p[static_cast<std::size_t>(e + 1)];
-        const tmesh::Vec3 q0 = at(have[0]), q1 = at(have[static_cast<std::size_t>(e + 1)]);
-        for (int x = 0; x < 3; ++x) U[static_cast<std::size_t>(e)][x] = p1[x] - p0[x], Q[static_cast<std::size_t>(e)][x] = q1[x] - q0[x];
-      }
-      U[2] = {0, 0, 0}, Q[2] = {0, 0, 0};
-      U[2][d] = side ? 1 : -1;
-      Q[2][0] = neck_face ? -1 : 1;
-      tmesh::AxisMap m;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          double v = 0;
-          for (int e = 0; e < 3; ++e) v += Q[static_cast<std::size_t>(e)][i] * U[static_cast<std::size_t>(e)][j];
-          m.P[i][j] = static_cast<int>(std::lround(v));
-        }
-      const tmesh::Vec3 y = m.linear(p[0]), q0 = at(have[0]);
-      m.t = {q0[0] - y[0], q0[1] - y[1], q0[2] - y[2]};
-      for (int i = 1; i < 4; ++i) {
-        const tmesh::Vec3 z = m(p[static_cast<std::size_t>(i)]), w = at(have[static_cast<std::size_t>(i)]);
-        if (z != w) throw core::InvalidInputError(in + ": the connector's end does not lie on ring " + std::to_string(r) + "'s face as a square");
-      }
-      tmesh::glue_faces(k, first + sector, f, nk, neck_face, m);
-      glued = true;
+        if (((i >> d) & 1) == side) rf.vertex[n] = cube_corner(sector, i), rf.corner[n++] = {double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)};
+      std::array<int, 4> have = rf.vertex;
+      std::sort(have.begin(), have.end());
+      if (have == sorted_want) return rf;
     }
-  if (!glued) throw core::InvalidInputError(in + ": no cube face of ring " + std::to_string(r) + " has the corners of the connector's end");
+  return std::nullopt;
+}
+
+// The signed permutation taking ring face rf's corners onto the points q(vertex) of another
+// cube's parameters or of a frame (only the signs of their differences count) and the face's
+// outward normal onto `inward`: P = Q U^T (U's columns are unit axis vectors).
+tmesh::AxisMap face_axes(const RingFace& rf, const std::function<tmesh::Vec3(int)>& q, const tmesh::Vec3& inward) {
+  std::array<tmesh::Vec3, 3> U{}, Q{};
+  for (int e = 0; e < 2; ++e) {
+    const tmesh::Vec3 &p0 = rf.corner[0], &p1 = rf.corner[static_cast<std::size_t>(e + 1)];
+    const tmesh::Vec3 q0 = q(rf.vertex[0]), q1 = q(rf.vertex[static_cast<std::size_t>(e + 1)]);
+    for (int x = 0; x < 3; ++x) {
+      const double dq = q1[x] - q0[x];
+      U[static_cast<std::size_t>(e)][x] = p1[x] - p0[x], Q[static_cast<std::size_t>(e)][x] = std::abs(dq) > 1e-12 ? (dq > 0 ? 1 : -1) : 0;
+    }
+  }
+  U[2] = {0, 0, 0}, Q[2] = inward;
+  U[2][rf.face / 2] = rf.face % 2 ? 1 : -1;
+  tmesh::AxisMap m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double v = 0;
+      for (int e = 0; e < 3; ++e) v += Q[static_cast<std::size_t>(e)][i] * U[static_cast<std::size_t>(e)][j];
+      m.P[i][j] = static_cast<int>(std::lround(v));
+    }
+  return m;
+}
+
+// Glues the cube face of ring r (cubes first, first + 1, ... of k) whose corner vertices are
+// `want` (layout ids) to face a = r of the connector cube nk, corner want[i] onto the connector's
+// parameters q[i] (the corners of that face). Throws core::InvalidInputError naming `in` if no
+// face of the ring has those corners or they do not lie on it as the square q.
+void glue_connector_end(tmesh::CubeComplex& k, const std::string& in, const Ring& ring, int r, const core::Json& ring_json, int first, int nk,
+                        const std::array<int, 4>& want, const std::array<tmesh::Vec3, 4>& q) {
+  const std::optional<RingFace> rf = find_ring_face(in, ring, r, ring_json, want);
+  if (!rf) throw core::InvalidInputError(in + ": no cube face of ring " + std::to_string(r) + " has the corners of the connector's end");
+  const int neck_face = r;  // a = 0 on ring 0's disk, a = 1 on ring 1's
+  auto at = [&](int v) { return q[static_cast<std::size_t>(std::find(want.begin(), want.end(), v) - want.begin())]; };
+  tmesh::AxisMap m = face_axes(*rf, at, {neck_face ? -1.0 : 1.0, 0, 0});
+  const tmesh::Vec3 y = m.linear(rf->corner[0]), q0 = at(rf->vertex[0]);
+  m.t = {q0[0] - y[0], q0[1] - y[1], q0[2] - y[2]};
+  for (int i = 1; i < 4; ++i) {
+    const tmesh::Vec3 z = m(rf->corner[static_cast<std::size_t>(i)]), w = at(rf->vertex[static_cast<std::size_t>(i)]);
+    if (z != w) throw core::InvalidInputError(in + ": the connector's end does not lie on ring " + std::to_string(r) + "'s face as a square");
+  }
+  tmesh::glue_faces(k, first + rf->sector, rf->face, nk, neck_face, m);
 }
 
 // The physical and polycube maps of a connector complex: `where` takes a point of cube c's
@@ -617,6 +640,262 @@ std::array<double, 3> cube_side_lengths(const volmap::Locator& locate, const std
   return out;
 }
 
+// The point location of a difference's volume map (`vmj`), checked against its surface map m.
+std::shared_ptr<volmap::Locator> difference_locator(const std::string& in, const core::Json& vmj, const polycube::DifferenceMap& m) {
+  const volmap::VolumeMap vm = volmap::from_json(vmj, in);
+  if (vm.flipped_tets > 0)
+    throw core::NumericalError(in + ": the volume map has " + std::to_string(vm.flipped_tets) +
+                               " flipped tets, so the spline would fold (see polycube_tets_mapped.vtu): rerun polycube with a "
+                               "smaller polycube.tet_max_volume_rel, or set `route: tet`");
+  if (vm.parameter.empty() || vm.tets.empty()) throw core::InvalidInputError(in + ": the volume map has no points or no tets");
+  if (vm.surface_vertices != m.solid_vertices)
+    throw core::InvalidInputError(in + ": the volume map has " + std::to_string(vm.surface_vertices) + " surface vertices, the polycube " +
+                                  std::to_string(m.solid_vertices) + " solid vertices");
+  return std::make_shared<volmap::Locator>(vm);
+}
+
+// The assembly (kind torus_on_cube; Liu et al. 2013 Fig. 1, §4.2: a torus united with a cube on
+// part of a face). One frame holds the base — the cube minus its holes as the boxes of the grid of
+// the holes' and the foot's lines, outside the holes, scaled to the cube's sides in the solid —,
+// the ring's foot cube standing on the foot's rectangle and the ring's other cubes in a row beyond
+// the base along the ring, closed onto the foot cube by two closures; box_complex cuts it until
+// faces meet whole. Pillowed as one complex: where the ring leaves its foot, the ring's next cube
+// and the base's cell beside the foot touch without being glued (a crack; in the solid a wedge of
+// air), and the pillow moves away from it within its plane (complex_blocks,
+// OppositePlanes::in_plane). Blocks are given per sub-box; a point belongs to the box holding it in
+// the frame (across the closures), a point on the foot to the ring (its surface map there).
+tmesh::PolycubeMaps foot_maps(const std::string& in, const core::Json& j, const tmesh::Params& params) {
+  if (params.pillow_layers < 1) throw core::ConfigError("tmesh.pillow_layers must be at least 1 for a torus standing on a cube (the assembly)");
+  const core::Json& rj = core::require(j, "ring", in);
+  const core::Json& bj = core::require(j, "base", in);
+  std::vector<Ring> list;
+  const polycube::DifferenceMap m = polycube::difference_from_json(core::require(bj, "polycube", in), in);
+  std::shared_ptr<volmap::Locator> base;
+  {
+    core::LogSection s("volume map");
+    list.push_back(read_ring(in, core::require(rj, "polycube", in), core::require(rj, "volume_map", in)));
+    base = difference_locator(in, core::require(bj, "volume_map", in), m);
+  }
+  if (!list[0].embedding.profile.empty() || !list[0].cuts[1].empty() || !list[0].cuts[2].empty())
+    throw core::InvalidInputError(in + ": a ring with a rectilinear profile or sharp-curve cuts cannot stand on a cube yet");
+  if (!m.foot) throw core::InvalidInputError(in + ": base.polycube has no foot");
+  std::vector<int> base_vertex;
+  try {
+    base_vertex = core::require(bj, "layout_vertex", in).get<std::vector<int>>();
+  } catch (const core::Json::exception& x) {
+    throw core::InvalidInputError(in + ": malformed base.layout_vertex: " + x.what());
+  }
+  const int A = m.axis;
+  const polycube::FootRect& foot = *m.foot;
+  const bool above = foot.lo[static_cast<std::size_t>(A)] == 1;  // difference_from_json checked: on a holed face
+  // The foot's corners: the base's solid vertices at its rectangle's corners.
+  std::array<int, 4> want{};
+  std::array<tmesh::Vec3, 4> q{};
+  int corners = 0;
+  for (int i = 0; i < m.solid_vertices && i < static_cast<int>(m.points.size()); ++i) {
+    const auto& x = m.points[static_cast<std::size_t>(i)];
+    bool corner = true;
+    for (std::size_t d = 0; d < 3; ++d) corner = corner && (std::abs(x[d] - foot.lo[d]) < 1e-9 || std::abs(x[d] - foot.hi[d]) < 1e-9);
+    if (!corner) continue;
+    if (corners == 4 || i >= static_cast<int>(base_vertex.size())) throw core::InvalidInputError(in + ": base.polycube.foot does not have four corner vertices");
+    want[static_cast<std::size_t>(corners)] = base_vertex[static_cast<std::size_t>(i)], q[static_cast<std::size_t>(corners++)] = {x[0], x[1], x[2]};
+  }
+  if (corners != 4) throw core::InvalidInputError(in + ": base.polycube.foot has " + std::to_string(corners) + " corner vertices, not 4");
+  const std::optional<RingFace> rf = find_ring_face(in, list[0], 0, rj, want);
+  if (!rf) throw core::InvalidInputError(in + ": no cube face of the ring has the foot's corners");
+  // The ring cubes' axes in the frame (the base's): the foot face's outward normal into the base.
+  tmesh::Vec3 inward{0, 0, 0};
+  inward[static_cast<std::size_t>(A)] = above ? -1 : 1;
+  const tmesh::AxisMap axes = face_axes(*rf, [&](int v) { return q[static_cast<std::size_t>(std::find(want.begin(), want.end(), v) - want.begin())]; }, inward);
+  int Fa = -1, sigma = 0;  // the frame axis of the ring's a and its sign
+  for (int f = 0; f < 3; ++f) {
+    int nonzero = 0;
+    for (int a = 0; a < 3; ++a) nonzero += axes.P[f][a] != 0;
+    if (nonzero != 1) throw core::InvalidInputError(in + ": the foot's corners do not lie on the ring's face as a rectangle");
+    if (axes.P[f][0] != 0) Fa = f, sigma = axes.P[f][0];
+  }
+  const int N = list[0].embedding.ring, s0 = rf->sector;
+  const std::array<double, 3> side = cube_side_lengths(*base, in);
+  const auto ring = std::make_shared<const tmesh::PolycubeMaps>(ring_maps(std::move(list), params));
+  // The ring cubes' lengths in the solid along a (through their centres) and the foot cube's height.
+  auto ring_length = [&](int sector, int axis) {
+    return path_length(
+        [&](double t) {
+          tmesh::Vec3 u{0.5, 0.5, 0.5};
+          u[static_cast<std::size_t>(axis)] = t;
+          return ring->physical(sector, u);
+        },
+        0.0, 1.0);
+  };
+  // One height for all (the closures join equal faces): the ring cubes' mean across the foot (the
+  // foot cube alone, where the plate cuts the tube, is a third of the others at the assembly's
+  // waist; its height would make the pillow of the others a third of their thickness).
+  double height = 0;
+  for (int s = 0; s < N; ++s) height += ring_length(s, rf->face / 2) / N;
+  tmesh::BoxLayout layout;
+  // The base: the grid of its holes' and its foot's sides, in the frame (the cube's sides in the solid).
+  std::array<std::vector<double>, 3> lines;
+  for (int d = 0; d < 3; ++d) {
+    auto& l = lines[static_cast<std::size_t>(d)];
+    l = {0, 1};
+    if (d == A) continue;
+    for (const auto& h : m.holes) l.push_back(h.lo[static_cast<std::size_t>(d)]), l.push_back(h.hi[static_cast<std::size_t>(d)]);
+    l.push_back(foot.lo[static_cast<std::size_t>(d)]), l.push_back(foot.hi[static_cast<std::size_t>(d)]);
+    std::sort(l.begin(), l.end());
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+  }
+  for (std::size_t k = 0; k + 1 < lines[2].size(); ++k)
+    for (std::size_t jj = 0; jj + 1 < lines[1].size(); ++jj)
+      for (std::size_t i = 0; i + 1 < lines[0].size(); ++i) {
+        const std::array<std::size_t, 3> ijk{i, jj, k};
+        std::array<tmesh::Vec3, 2> box;
+        tmesh::Vec3 centre;
+        for (std::size_t d = 0; d < 3; ++d) {
+          const double lo = lines[d][ijk[d]], hi = lines[d][ijk[d] + 1];
+          box[0][d] = lo * side[d], box[1][d] = hi * side[d], centre[d] = (lo + hi) / 2;
+        }
+        bool hole = false;
+        for (const auto& h : m.holes) {
+          bool in_h = true;
+          for (std::size_t d = 0; d < 3; ++d) in_h = in_h && (static_cast<int>(d) == A || (centre[d] > h.lo[d] && centre[d] < h.hi[d]));
+          hole = hole || in_h;
+        }
+        if (!hole) layout.boxes.push_back(box);
+      }
+  const int plate_boxes = static_cast<int>(layout.boxes.size());
+  // The foot cube on the foot's rectangle, the others in a row beyond the base along a.
+  std::array<tmesh::Vec3, 2> foot_box;
+  for (std::size_t d = 0; d < 3; ++d) foot_box[0][d] = foot.lo[d] * side[d], foot_box[1][d] = foot.hi[d] * side[d];
+  foot_box[0][static_cast<std::size_t>(A)] = above ? side[static_cast<std::size_t>(A)] : -height;
+  foot_box[1][static_cast<std::size_t>(A)] = above ? side[static_cast<std::size_t>(A)] + height : 0;
+  layout.boxes.push_back(foot_box);
+  std::vector<int> sector{s0};
+  double at = sigma > 0 ? side[static_cast<std::size_t>(Fa)] + height : -height;  // the row's start, clear of the base
+  for (int i = 1; i < N; ++i) {
+    const int s = (s0 + i) % N;
+    const double len = ring_length(s, 0);
+    std::array<tmesh::Vec3, 2> box = foot_box;
+    box[0][static_cast<std::size_t>(Fa)] = sigma > 0 ? at : at - len;
+    box[1][static_cast<std::size_t>(Fa)] = sigma > 0 ? at + len : at;
+    at += sigma * len;
+    layout.boxes.push_back(box);
+    sector.push_back(s);
+  }
+  // a = 1 of the foot cube is its next cube's a = 0; the last cube's a = 1 is the foot cube's a = 0.
+  const int hi_face = 2 * Fa + (sigma > 0 ? 1 : 0), lo_face = 2 * Fa + (sigma > 0 ? 0 : 1);
+  auto face_at = [&](int b, int f) { return layout.boxes[static_cast<std::size_t>(b)][static_cast<std::size_t>(f % 2)][static_cast<std::size_t>(f / 2)]; };
+  for (const auto& [a, b] : {std::pair{plate_boxes, plate_boxes + 1}, std::pair{plate_boxes + N - 1, plate_boxes}}) {
+    tmesh::BoxLayout::Closure c;
+    c.a = a, c.fa = hi_face, c.b = b, c.fb = lo_face;
+    c.shift[static_cast<std::size_t>(Fa)] = face_at(b, lo_face) - face_at(a, hi_face);
+    layout.closures.push_back(c);
+  }
+  // 2^level elements along the base's shortest side, as many per unit of frame length elsewhere;
+  // one pillow thickness in the frame, a layer of such elements (at most 0.45 of a thin sub-box).
+  const int n = 1 << params.level;
+  const double shortest = *std::min_element(side.begin(), side.end());
+  double thickness = shortest * params.pillow_layers / (n + 2 * params.pillow_layers);
+  // Where the ring leaves its foot (the foot's two ends along a), the ring's next cubes and the
+  // base's cells beside the foot are cut two pillow thicknesses from that end: the slabs on the
+  // crack between them taper to its root within that length (over a whole cube they were
+  // slivers that the map's kink at the root turned inside out).
+  std::vector<std::array<std::vector<double>, 3>> cuts(layout.boxes.size());
+  {
+    const double l = 2 * thickness, f0 = foot_box[0][static_cast<std::size_t>(Fa)], f1 = foot_box[1][static_cast<std::size_t>(Fa)];
+    auto cut = [&](int b, double x) {
+      const auto& B = layout.boxes[static_cast<std::size_t>(b)];
+      if (x > B[0][static_cast<std::size_t>(Fa)] + l / 4 && x < B[1][static_cast<std::size_t>(Fa)] - l / 4) cuts[static_cast<std::size_t>(b)][static_cast<std::size_t>(Fa)].push_back(x);
+    };
+    cut(plate_boxes + 1, face_at(plate_boxes + 1, lo_face) + sigma * l);
+    cut(plate_boxes + N - 1, face_at(plate_boxes + N - 1, hi_face) - sigma * l);
+    const int W = 3 - A - Fa;  // across the foot
+    for (int b = 0; b < plate_boxes; ++b) {
+      const auto& B = layout.boxes[static_cast<std::size_t>(b)];
+      if (B[0][static_cast<std::size_t>(W)] < foot_box[0][static_cast<std::size_t>(W)] - 1e-12 || B[1][static_cast<std::size_t>(W)] > foot_box[1][static_cast<std::size_t>(W)] + 1e-12) continue;
+      if (std::abs(B[1][static_cast<std::size_t>(Fa)] - f0) < 1e-12) cut(b, f0 - l);
+      if (std::abs(B[0][static_cast<std::size_t>(Fa)] - f1) < 1e-12) cut(b, f1 + l);
+    }
+  }
+  const auto bc = std::make_shared<const tmesh::BoxComplex>(tmesh::box_complex(layout, cuts));
+  std::vector<std::array<int, 3>> wanted(bc->extent.size());
+  for (std::size_t i = 0; i < wanted.size(); ++i)
+    for (std::size_t d = 0; d < 3; ++d) {
+      const double e = bc->extent[i][1][d] - bc->extent[i][0][d];
+      wanted[i][d] = std::max(1, static_cast<int>(std::lround(n * e / shortest)));
+      thickness = std::min(thickness, 0.45 * e);
+    }
+  core::log("the base as " + std::to_string(plate_boxes) + " boxes, the ring's " + std::to_string(N) + " cubes standing on its foot: " +
+            std::to_string(bc->extent.size()) + " sub-boxes, pillow " + std::to_string(thickness) + " thick in the frame");
+  tmesh::PolycubeMaps out;
+  out.blocks = tmesh::complex_blocks(bc->complex, tmesh::element_counts(bc->complex, wanted), params.pillow_layers, bc->pillow(thickness),
+                                     tmesh::OppositePlanes::in_plane);
+  out.boundary.assign(out.blocks.size(), {0, 0, 0, 0, 0, 0});
+  // The box holding a point of sub-box c's parameters and the point in the frame.
+  const double tol = 1e-9 * bc->size, plane = above ? side[static_cast<std::size_t>(A)] : 0;
+  const auto boxes = std::make_shared<const std::vector<std::array<tmesh::Vec3, 2>>>(layout.boxes);
+  auto where = [bc, boxes, plate_boxes, A, plane, tol](int c, const tmesh::Vec3& x) {
+    const auto at = bc->locate(bc->to_frame(c, x), c);
+    if (!at)
+      throw core::NumericalError("tmesh: a point of sub-box " + std::to_string(c) + " (" + std::to_string(x[0]) + ", " + std::to_string(x[1]) + ", " +
+                                 std::to_string(x[2]) + ") lies outside the polycube of the base and the ring");
+    const tmesh::Vec3 z = bc->to_frame(at->first, at->second);
+    int b = bc->box[static_cast<std::size_t>(at->first)];
+    if (b < plate_boxes && std::abs(z[static_cast<std::size_t>(A)] - plane) < tol) {  // on the foot: the ring's
+      const auto& f = (*boxes)[static_cast<std::size_t>(plate_boxes)];
+      bool on = true;
+      for (std::size_t d = 0; d < 3; ++d) on = on && (static_cast<int>(d) == A || (z[d] > f[0][d] - tol && z[d] < f[1][d] + tol));
+      if (on) b = plate_boxes;
+    }
+    return std::make_pair(b, z);
+  };
+  // A ring box's point in its cube's parameters.
+  auto ring_point = [boxes, axes, plate_boxes](int b, const tmesh::Vec3& z) {
+    tmesh::Vec3 u = tmesh::frame_to_cube(axes, (*boxes)[static_cast<std::size_t>(b)], z);
+    for (double& v : u) v = std::clamp(v, 0.0, 1.0);
+    return u;
+  };
+  auto base_point = [side](const tmesh::Vec3& z) {
+    tmesh::Vec3 u;
+    for (std::size_t d = 0; d < 3; ++d) u[d] = std::clamp(z[d] / side[d], 0.0, 1.0);
+    return u;
+  };
+  out.physical = [where, ring_point, base_point, ring, base, sector, plate_boxes](int c, const tmesh::Vec3& x) {
+    const auto [b, z] = where(c, x);
+    if (b >= plate_boxes) return ring->physical(sector[static_cast<std::size_t>(b - plate_boxes)], ring_point(b, z));
+    const auto p = base->physical(base_point(z));
+    if (!p) throw core::NumericalError("tmesh: a point of the base lies outside its volume map");
+    return *p;
+  };
+  out.polycube = [where, ring_point, base_point, ring, sector, plate_boxes](int c, const tmesh::Vec3& x) {
+    const auto [b, z] = where(c, x);
+    if (b >= plate_boxes) return ring->polycube(sector[static_cast<std::size_t>(b - plate_boxes)], ring_point(b, z));
+    tmesh::Vec3 u = base_point(z);
+    u[0] += 30.0;  // the ring's annulus lies within |x| < 3
+    return u;
+  };
+  // How far the two maps of the foot (the base's rectangle, the ring's face) are apart: the base's
+  // blocks under the foot meet the ring's points on it.
+  double gap = 0, size = 0;
+  for (int i = 0; i <= 8; ++i)
+    for (int k = 0; k <= 8; ++k) {
+      tmesh::Vec3 z;
+      const auto& f = (*boxes)[static_cast<std::size_t>(plate_boxes)];
+      for (std::size_t d = 0; d < 3; ++d) z[d] = f[0][d];
+      int e = 0;
+      for (std::size_t d = 0; d < 3; ++d)
+        if (static_cast<int>(d) != A) z[d] = f[0][d] + (e++ ? k : i) / 8.0 * (f[1][d] - f[0][d]);
+      z[static_cast<std::size_t>(A)] = plane;
+      const auto p = base->physical(base_point(z));
+      const tmesh::Vec3 r = ring->physical(s0, ring_point(plate_boxes, z));
+      if (p) gap = std::max(gap, std::hypot((*p)[0] - r[0], (*p)[1] - r[1], (*p)[2] - r[2]));
+    }
+  for (std::size_t d = 0; d < 3; ++d)
+    if (static_cast<int>(d) != A) size = std::max(size, (foot.hi[d] - foot.lo[d]) * side[d]);
+  core::log("the base's and the ring's maps of the foot differ by up to " + std::to_string(gap) + " (" + std::to_string(size > 0 ? gap / size : 0.0) +
+            " of the foot's length)");
+  return out;
+}
+
 // The polycube structure the stage wrote (structure.h), if the file has one (files written before
 // it had none and are read as before): read, checked to be a polycube and to be the structure of
 // `kind` (its counts of tori, virtual components and, for one cube, cubes). The file was checked
@@ -633,9 +912,12 @@ std::optional<polycube::Structure> read_structure(const std::string& in, const c
   const std::size_t rings = kind == "tori" && j.contains("rings") && j["rings"].is_array() ? j["rings"].size() : 0;
   // A difference has one virtual component per hole (its polycube's `holes`, or one).
   std::size_t holes = 1;
-  if (kind == "difference" && j.contains("polycube") && j["polycube"].is_object() && j["polycube"].contains("holes") && j["polycube"]["holes"].is_array())
-    holes = j["polycube"]["holes"].size();
-  const std::size_t tori = kind == "torus" ? 1 : kind == "tori" ? rings : 0, virt = kind == "difference" ? holes : 0;
+  const core::Json* pc = kind == "difference" && j.contains("polycube") ? &j["polycube"]
+                         : kind == "torus_on_cube" && j.contains("base") && j["base"].is_object() && j["base"].contains("polycube") ? &j["base"]["polycube"]
+                                                                                                                                    : nullptr;
+  if (pc && pc->is_object() && pc->contains("holes") && (*pc)["holes"].is_array()) holes = (*pc)["holes"].size();
+  const bool differs = kind == "difference" || kind == "torus_on_cube";
+  const std::size_t tori = kind == "torus" || kind == "torus_on_cube" ? 1 : kind == "tori" ? rings : 0, virt = differs ? holes : 0;
   const bool one_cube = kind == "cube" || kind == "difference";
   if (f["tori"] != tori || f["virtual_components"] != virt || (one_cube && f["cubes"] != 1))
     throw core::InvalidInputError(in + ": structure does not match kind '" + kind + "': it has " + f["cubes"].dump() + " cubes, " +
@@ -651,11 +933,15 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
   if (j.contains("kind") && !j["kind"].is_string()) throw core::InvalidInputError(in + ": polycube kind must be a string");
   const std::string kind = j.value("kind", std::string("cube"));
   r.kind = kind;
-  if (kind == "torus_on_cube") return r;  // no maps yet: the stage refuses it (docs/assembly_plan.md)
-  if (kind != "cube" && kind != "torus" && kind != "tori" && kind != "difference")
+  if (kind != "cube" && kind != "torus" && kind != "tori" && kind != "difference" && kind != "torus_on_cube")
     throw core::InvalidInputError(in + ": unknown polycube kind '" + kind + "'");
   r.surface = core::require(j, "surface", in);
   const std::optional<polycube::Structure> structure = read_structure(in, j, kind);
+  if (kind == "torus_on_cube") {
+    core::log("a torus standing on a cube minus holes: one pillowed complex of boxes");
+    r.maps = foot_maps(in, j, params);
+    return r;
+  }
   if (kind == "torus" || kind == "tori") {
     std::vector<Ring> rings;
     {
@@ -699,16 +985,7 @@ PolycubeInput read_polycube_input(const std::string& in, const tmesh::Params& pa
     std::shared_ptr<volmap::Locator> locate;
     {
       core::LogSection s("volume map");
-      const volmap::VolumeMap vm = volmap::from_json(core::require(j, "volume_map", in), in);
-      if (vm.flipped_tets > 0)
-        throw core::NumericalError(in + ": the volume map has " + std::to_string(vm.flipped_tets) +
-                                   " flipped tets, so the spline would fold (see polycube_tets_mapped.vtu): rerun polycube with a "
-                                   "smaller polycube.tet_max_volume_rel, or set `route: tet`");
-      if (vm.parameter.empty() || vm.tets.empty()) throw core::InvalidInputError(in + ": the volume map has no points or no tets");
-      if (vm.surface_vertices != m.solid_vertices)
-        throw core::InvalidInputError(in + ": the volume map has " + std::to_string(vm.surface_vertices) + " surface vertices, the polycube " +
-                                      std::to_string(m.solid_vertices) + " solid vertices");
-      locate = std::make_shared<volmap::Locator>(vm);
+      locate = difference_locator(in, core::require(j, "volume_map", in), m);
     }
     tmesh::PolycubeMaps& maps = r.maps;
     std::vector<std::array<tmesh::Vec3, 2>> boxes;

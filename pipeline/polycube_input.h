@@ -15,7 +15,7 @@
 namespace volts::pipeline {
 
 struct PolycubeInput {
-  std::string kind;               ///< "cube", "torus", "tori", "difference" or "torus_on_cube" (read no further: no maps yet)
+  std::string kind;               ///< "cube", "torus", "tori", "difference" or "torus_on_cube"
   core::Json surface;             ///< the input surface, passed on to the tmesh stage file
   tmesh::PolycubeMaps maps;       ///< owns (through shared pointers) the volume maps it calls
 };

@@ -97,7 +97,6 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   for (;;) {
     try {
       in = pipeline::read_polycube_input(ctx.input_file("polycube"), params);
-      if (in.kind == "torus_on_cube") break;
       if (!input && (params.epsilon_rel > 0 || slide_nodes)) {
         const surface::Mesh mesh = surface::mesh_from_json(in.surface, ctx.input_file("polycube"));
         input = std::make_unique<tmesh::SlideSurface>(surface::vertex_array(mesh), surface::triangle_triples(mesh));
@@ -122,10 +121,6 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
       params = coarser(want, --h);
     }
   }
-  if (in.kind == "torus_on_cube")  // the assembly: the ring's foot is not glued onto the base's face yet
-    throw core::TopologyError(ctx.input_file("polycube") + ": the polycube of a torus standing on a cube minus through holes (kind "
-                              "'torus_on_cube', the assembly) cannot be turned into blocks yet (docs/assembly_plan.md); polycube.vtp "
-                              "and polycube_base.vtp show it; set `route: tet` to mesh it (examples/assembly-tet.yaml)");
   const core::Json& surface = in.surface;
   const tmesh::PolycubeMaps& maps = in.maps;
   // tmesh.continuity c2: smooth rows across the block faces of the net that is optimized (the

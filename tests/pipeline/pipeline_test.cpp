@@ -826,20 +826,18 @@ TEST(Pipeline, FitRouteRefusesATorusNamingItsGenus) {
   EXPECT_FALSE(fs::exists(d / "w" / "bezier.vtu"));
 }
 
-// The assembly on the polycube route: split writes the union (plate minus four holes, the ring on
-// its foot: 9 components); polycube maps the ring and the base (the plate closed by the foot, the
-// foot a rectangle of its top face) without a flipped triangle or tet, the foot a contact of the
-// ring cube and the plate; tmesh refuses the kind by name (exit 5, topology), writing nothing.
-TEST(Pipeline, AssemblyGetsItsPolycubeAndTmeshNamesTheTetRoute) {
-  const fs::path d = test::fresh_dir("pipeline", "assembly_polycube");
-  test::write_text(d / "run.yaml", "input: {generate: assembly, resolution: 16}\n");
+TEST(Pipeline, AssemblyRunsEndToEndOnThePolycubeRoute) {
+  // The paper's assembly (Liu et al. 2013, Fig. 1): a plate minus four holes with a ring standing
+  // on it, genus 5; polycube kind torus_on_cube, the T-mesh one pillowed complex of the plate's
+  // boxes and the ring's cubes glued on the foot (docs/assembly_plan.md). Level 2 to keep the test
+  // short (~2.5 s; the bench runs the defaults). Measured: 8,864 elements, all certified valid,
+  // worst 0.502, hausdorff_rel 3.9e-3, volume_rel_error 9.6e-4.
+  const fs::path d = test::fresh_dir("pipeline", "assembly_run");
+  test::write_text(d / "run.yaml", "input: {generate: assembly, resolution: 24}\ntmesh: {level: 2}\nextract: {exports: [vtu]}\n");
   const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string());
-  EXPECT_EQ(r.code, 5) << r.output;
-  EXPECT_NE(r.output.find("torus_on_cube"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("route: tet"), std::string::npos) << r.output;
-  for (const char* f : {"split.vtp", "polycube.stage.json", "polycube.vtp", "polycube_base.vtp", "polycube_base_mapped.vtp", "polycube_tets.vtu"})
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"split.vtp", "polycube.vtp", "polycube_base.vtp", "polycube_base_mapped.vtp", "polycube_tets.vtu", "tmesh.vtu", "bezier.vtu"})
     EXPECT_TRUE(fs::exists(d / "w" / f)) << f;
-  EXPECT_FALSE(fs::exists(d / "w" / "tmesh.stage.json"));
   const core::Json rep = core::read_report((d / "w").string());
   const core::Json& s = rep["stages"]["split"];
   EXPECT_EQ(s["genus"], 5);
@@ -861,6 +859,13 @@ TEST(Pipeline, AssemblyGetsItsPolycubeAndTmeshNamesTheTetRoute) {
   EXPECT_EQ(st["kind"], "torus_on_cube");
   ASSERT_EQ(st["structure"]["contacts"].size(), 1u);
   EXPECT_NE(st["structure"]["contacts"][0]["label"].get<std::string>().find("foot"), std::string::npos);
+  EXPECT_GT(rep["stages"]["tmesh"]["min_scaled_jacobian_after"].get<double>(), 0);  // every trilinear element positive
+  const core::Json& x = rep["stages"]["extract"];
+  EXPECT_EQ(x["certified_valid"], x["bezier_elements"]);
+  EXPECT_GT(x["min_scaled_jacobian"].get<double>(), 0.4);
+  EXPECT_LT(x["hausdorff_rel"].get<double>(), 0.005);
+  EXPECT_LT(x["volume_rel_error"].get<double>(), 0.005);
+  EXPECT_LT(x["partition_of_unity_error"].get<double>(), 1e-12);
 }
 
 TEST(Pipeline, EveryExecutableHasHelp) {
