@@ -441,6 +441,26 @@ TEST(BoxComplex, CutsTravelAroundARingThroughItsClosure) {
   EXPECT_FALSE(bc.locate({0.5, 0.5, 1.5}));  // above box 0: outside the solid
 }
 
+// A ring laid out with a gap (the assembly's: the foot cube on the plate, the others in a row
+// beyond it): box 0 at [0, 1], boxes 1 and 2 at [-3, -2] and [-5, -3], box 0's face x = 0 closed
+// onto box 1's x = -2. A point just past box 1's closing face is carried into box 0, not by the
+// shift the other way into box 2 (which it reaches too); a point past no closing face stays out.
+TEST(BoxComplex, LocateCrossesAClosureOnlyFromItsFaceIntoItsBox) {
+  tmesh::BoxLayout L;
+  L.boxes = {{Vec3{0, 0, 0}, Vec3{1, 1, 1}}, {Vec3{-3, 0, 0}, Vec3{-2, 1, 1}}, {Vec3{-5, 0, 0}, Vec3{-3, 1, 1}}};
+  L.closures = {closure(0, 0, 1, 1, {-2, 0, 0})};
+  const tmesh::BoxComplex bc = tmesh::box_complex(L);
+  const auto at = bc.locate({-1.9, 0.5, 0.5});
+  ASSERT_TRUE(at);
+  EXPECT_EQ(bc.box[static_cast<std::size_t>(at->first)], 0);
+  EXPECT_NEAR(at->second[0], 0.1, 1e-12);
+  const auto back = bc.locate({-0.1, 0.5, 0.5});  // past box 0's closing face: into box 1
+  ASSERT_TRUE(back);
+  EXPECT_EQ(bc.box[static_cast<std::size_t>(back->first)], 1);
+  EXPECT_NEAR(back->second[0], 0.9, 1e-12);
+  EXPECT_FALSE(bc.locate({-1.9, 1.5, 0.5}));  // beside the face, not past it
+}
+
 TEST(BoxComplex, BadLayoutsAreRefusedNamingTheBoxes) {
   tmesh::BoxLayout L;
   L.boxes = {{Vec3{0, 0, 0}, Vec3{1, 1, 1}}, {Vec3{0.5, 0, 0}, Vec3{1.5, 1, 1}}};
@@ -665,8 +685,8 @@ TEST(CubeComplex, ACrackBesideAFootIsPillowedAwayFromItInItsPlane) {
       for (int i = 0; i < 8; ++i) {
         for (int d = 0; d < 3; ++d) x[i][d] = at[c][d] + b.corners[i][d];
         // No block reaches across the crack: cube 3's stay above it, cube 1's below.
-        if (c == 3) EXPECT_FALSE(x[i][0] > 1 + 1e-12 && x[i][2] < 1 - 1e-12);
-        if (c == 1) EXPECT_FALSE(x[i][0] > 1 + 1e-12 && x[i][2] > 1 + 1e-12);
+        const bool right = x[i][0] > 1 + 1e-12, below = x[i][2] < 1 - 1e-12, above = x[i][2] > 1 + 1e-12;
+        EXPECT_FALSE((c == 3 && right && below) || (c == 1 && right && above)) << "cube " << c;
         EXPECT_TRUE(x[i][0] > -1e-12 && x[i][0] < 2 + 1e-12 && x[i][1] > -1e-12 && x[i][1] < 1 + 1e-12 && x[i][2] > -1e-12 && x[i][2] < 2 + 1e-12);
         root_copies += std::abs(x[i][0] - (1 - p)) < 1e-12 && std::abs(x[i][1] - p) < 1e-12 && std::abs(x[i][2] - 1) < 1e-12;
       }
