@@ -702,7 +702,7 @@ tmesh::PolycubeMaps foot_maps(const std::string& in, const core::Json& j, const 
   }
   if (corners != 4) throw core::InvalidInputError(in + ": base.polycube.foot has " + std::to_string(corners) + " corner vertices, not 4");
   const std::optional<RingFace> rf = find_ring_face(in, list[0], 0, rj, want);
-  if (!rf) throw core::InvalidInputError(in + ": no cube face of the ring has the foot's corners");
+  if (!rf) throw core::InvalidInputError(in + ": no cube face of the ring has the foot's corners (base.layout_vertex, base.polycube.foot)");
   // The ring cubes' axes in the frame (the base's): the foot face's outward normal into the base.
   tmesh::Vec3 inward{0, 0, 0};
   inward[static_cast<std::size_t>(A)] = above ? -1 : 1;

@@ -235,5 +235,76 @@ TEST(PolycubeInput, RodsEyeStandsOnTheDisksStripOfTheConnectorsLensedEnd) {
   }
 }
 
+
+// The assembly (kind torus_on_cube, examples/assembly.yaml): the plate's boxes and the ring's
+// cubes as one complex (foot_maps). Every block corner is evaluated; the blocks conform in
+// polycube space (each inner block face is exactly one other block's: across the foot, the ring's
+// closures and the cuts near the foot's ends), every corner of a surface block face lies on the
+// input surface, the ring's cubes have blocks on the crack where the ring leaves its foot, and a
+// base without its foot or with foreign corner vertices is refused naming the member.
+TEST(PolycubeInput, AssemblysRingStandsOnItsFootAndTheComplexConforms) {
+  const fs::path d = test::fresh_dir("pipeline", "polycube_input_assembly");
+  test::write_text(d / "run.yaml", "input: {generate: assembly, resolution: 16}\n");
+  const test::Outcome r = test::run(test::bin("volts") + " run " + (d / "run.yaml").string() + " --workdir " + (d / "w").string() + " --to polycube");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string file = (d / "w" / "polycube.stage.json").string();
+  const core::Json j = core::read_stage_file(file, "volts-polycube", 2);
+  tmesh::Params params;
+  params.level = 2;
+  const pipeline::PolycubeInput in = pipeline::read_polycube_input(file, params);
+  ASSERT_EQ(in.kind, "torus_on_cube");
+  // 45 grid boxes of the plate and 4 ring cubes, cut near the foot's ends: more sub-boxes.
+  EXPECT_GT(in.maps.blocks.size(), 49u);
+  const surface::Mesh mesh = surface::mesh_from_json(in.surface, file);
+  Tree tree(faces(mesh).first, faces(mesh).second, mesh);
+  tree.accelerate_distance_queries();
+  const double diag = surface::bbox_diagonal(mesh);
+  std::map<std::array<std::array<long long, 3>, 4>, int> inner;
+  double off_surface = 0, top = -HUGE_VAL;
+  int surface_faces = 0, crack_faces = 0;
+  for (const auto& p : surface::vertex_array(mesh)) top = std::max(top, p[2]);
+  for (std::size_t c = 0; c < in.maps.blocks.size(); ++c)
+    for (const tmesh::Block& b : in.maps.blocks[c])
+      for (int f = 0; f < 6; ++f) {
+        const int dd = f / 2, side = f % 2;
+        std::array<std::array<long long, 3>, 4> key{};
+        double lowest = HUGE_VAL;
+        bool ring = true;
+        for (int i = 0, n = 0; i < 8; ++i) {
+          if (((i >> dd) & 1) != side) continue;
+          const tmesh::Vec3 q = in.maps.polycube(static_cast<int>(c), b.corners[static_cast<std::size_t>(i)]);
+          ring = ring && q[0] < 10;  // the ring's annulus; the plate's points lie at x >= 30
+          for (int e = 0; e < 3; ++e) key[static_cast<std::size_t>(n)][static_cast<std::size_t>(e)] = std::llround(q[e] * 1e7);
+          ++n;
+          if (!b.boundary[f]) continue;
+          const tmesh::Vec3 x = in.maps.physical(static_cast<int>(c), b.corners[static_cast<std::size_t>(i)]);
+          lowest = std::min(lowest, x[2]);
+          off_surface = std::max(off_surface, std::sqrt(CGAL::to_double(tree.squared_distance(surface::Point(x[0], x[1], x[2])))));
+        }
+        std::sort(key.begin(), key.end());
+        if (b.boundary[f]) {
+          ++surface_faces;
+          crack_faces += ring && lowest < 0.25 + 1e-6;  // a ring face down on the plate's top (z = 0.25)
+          continue;
+        }
+        ++inner[key];
+      }
+  int unmatched = 0;
+  for (const auto& [key, n] : inner) unmatched += n != 2;
+  EXPECT_EQ(unmatched, 0) << "of " << inner.size() << " inner block faces";
+  EXPECT_GT(surface_faces, 0);
+  EXPECT_GT(crack_faces, 0) << "no ring slab reaches the foot's ends";
+  EXPECT_LT(off_surface, 1e-6 * diag);
+  const std::string bad = (d / "bad.json").string();
+  core::Json k = j;
+  k["base"]["polycube"].erase("foot");
+  test::write_text(bad, k.dump());
+  expect_refused(bad, "foot", "a base without its foot");
+  k = j;
+  for (auto& v : k["base"]["layout_vertex"]) v = v.get<int>() + 1;
+  test::write_text(bad, k.dump());
+  expect_refused(bad, "layout_vertex", "foreign corner vertices");
+}
+
 }  // namespace
 }  // namespace volts
