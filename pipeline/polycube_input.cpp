@@ -714,6 +714,11 @@ tmesh::PolycubeMaps foot_maps(const std::string& in, const core::Json& j, const 
     if (nonzero != 1) throw core::InvalidInputError(in + ": the foot's corners do not lie on the ring's face as a rectangle");
     if (axes.P[f][0] != 0) Fa = f, sigma = axes.P[f][0];
   }
+  const auto& P = axes.P;
+  const int det = P[0][0] * (P[1][1] * P[2][2] - P[1][2] * P[2][1]) - P[0][1] * (P[1][0] * P[2][2] - P[1][2] * P[2][0]) +
+                  P[0][2] * (P[1][0] * P[2][1] - P[1][1] * P[2][0]);
+  if (det != 1)  // both maps keep the surface's orientation, so the foot's corners must too
+    throw core::InvalidInputError(in + ": the foot's corners lie on the ring's face mirrored (base.polycube.foot, ring.polycube.corner_vertex)");
   const int N = list[0].embedding.ring, s0 = rf->sector;
   const std::array<double, 3> side = cube_side_lengths(*base, in);
   const auto ring = std::make_shared<const tmesh::PolycubeMaps>(ring_maps(std::move(list), params));
