@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -166,6 +167,48 @@ TEST(PolycubeInput, ProfileRingsHaveACubePerCellAndSectorAndBadProfilesNameTheFi
 }
 
 
+// Every block face of `in`'s complex evaluated at its corners: inner faces keyed by their corners'
+// polycube points (a conforming complex has each exactly twice: `unmatched` counts the others),
+// surface faces' corners measured against `tree` (`off_surface`, the largest distance) and handed
+// to `on_surface` (cube, the corners' parameters, polycube and physical points).
+struct FaceWalk {
+  int unmatched = 0, inner = 0, surface = 0;
+  double off_surface = 0;
+};
+using SurfaceFace = std::function<void(int, const std::vector<tmesh::Vec3>&, const std::vector<tmesh::Vec3>&, const std::vector<tmesh::Vec3>&)>;
+FaceWalk walk_faces(const pipeline::PolycubeInput& in, const Tree& tree, const SurfaceFace& on_surface) {
+  FaceWalk w;
+  std::map<std::array<std::array<long long, 3>, 4>, int> inner;
+  for (std::size_t c = 0; c < in.maps.blocks.size(); ++c)
+    for (const tmesh::Block& b : in.maps.blocks[c])
+      for (int f = 0; f < 6; ++f) {
+        const int dd = f / 2, side = f % 2;
+        std::array<std::array<long long, 3>, 4> key{};
+        std::vector<tmesh::Vec3> uvw, poly, phys;
+        for (int i = 0; i < 8; ++i) {
+          if (((i >> dd) & 1) != side) continue;
+          const tmesh::Vec3& x = b.corners[static_cast<std::size_t>(i)];
+          const tmesh::Vec3 q = in.maps.polycube(static_cast<int>(c), x);
+          for (int e = 0; e < 3; ++e) key[uvw.size()][static_cast<std::size_t>(e)] = std::llround(q[e] * 1e7);
+          uvw.push_back(x), poly.push_back(q);
+          if (!b.boundary[f]) continue;
+          const tmesh::Vec3 p = in.maps.physical(static_cast<int>(c), x);
+          phys.push_back(p);
+          w.off_surface = std::max(w.off_surface, std::sqrt(CGAL::to_double(tree.squared_distance(surface::Point(p[0], p[1], p[2])))));
+        }
+        if (b.boundary[f]) {
+          ++w.surface;
+          on_surface(static_cast<int>(c), uvw, poly, phys);
+          continue;
+        }
+        std::sort(key.begin(), key.end());
+        ++inner[key];
+      }
+  for (const auto& [key, n] : inner) w.unmatched += n != 2;
+  w.inner = static_cast<int>(inner.size());
+  return w;
+}
+
 // The rod with its small end on the shoulder (examples/rod.yaml): the connector's end face is
 // the eye's disk between two lenses, and the eye's ring stands on the disk's strip only. Every
 // block corner of the complex is evaluated, the blocks conform in polycube space across that
@@ -191,39 +234,17 @@ TEST(PolycubeInput, RodsEyeStandsOnTheDisksStripOfTheConnectorsLensedEnd) {
   Tree tree(faces(mesh).first, faces(mesh).second, mesh);
   tree.accelerate_distance_queries();
   const double diag = surface::bbox_diagonal(mesh);
-  std::map<std::array<std::array<long long, 3>, 4>, int> inner;
-  double off_surface = 0;
-  int lens_faces = 0, surface_faces = 0;
-  for (int c = 0; c < 9; ++c)
-    for (const tmesh::Block& b : in.maps.blocks[static_cast<std::size_t>(c)])
-      for (int f = 0; f < 6; ++f) {
-        const int dd = f / 2, side = f % 2;
-        std::array<std::array<long long, 3>, 4> key{};
-        bool lens = b.boundary[f] && c == 8;
-        for (int i = 0, n = 0; i < 8; ++i) {
-          if (((i >> dd) & 1) != side) continue;
-          const tmesh::Vec3 q = in.maps.polycube(c, b.corners[static_cast<std::size_t>(i)]);
-          for (int e = 0; e < 3; ++e) key[static_cast<std::size_t>(n)][static_cast<std::size_t>(e)] = std::llround(q[e] * 1e7);
-          ++n;
-          if (!b.boundary[f]) continue;
-          const tmesh::Vec3 p = in.maps.physical(c, b.corners[static_cast<std::size_t>(i)]);
-          off_surface = std::max(off_surface, std::sqrt(CGAL::to_double(tree.squared_distance(surface::Point(p[0], p[1], p[2])))));
-          const auto& x = b.corners[static_cast<std::size_t>(i)];
-          lens = lens && std::abs(x[0] - end) < 1e-12 && (x[static_cast<std::size_t>(axis)] < lo + 1e-9 || x[static_cast<std::size_t>(axis)] > hi - 1e-9);
-        }
-        std::sort(key.begin(), key.end());
-        if (b.boundary[f]) {
-          ++surface_faces, lens_faces += lens;
-          continue;
-        }
-        ++inner[key];
-      }
-  int unmatched = 0;
-  for (const auto& [key, n] : inner) unmatched += n != 2;
-  EXPECT_EQ(unmatched, 0) << "of " << inner.size() << " inner block faces";
-  EXPECT_GT(surface_faces, 0);
+  int lens_faces = 0;
+  const FaceWalk w = walk_faces(in, tree, [&](int c, const std::vector<tmesh::Vec3>& uvw, const std::vector<tmesh::Vec3>&, const std::vector<tmesh::Vec3>&) {
+    bool lens = c == 8;
+    for (const auto& x : uvw)
+      lens = lens && std::abs(x[0] - end) < 1e-12 && (x[static_cast<std::size_t>(axis)] < lo + 1e-9 || x[static_cast<std::size_t>(axis)] > hi - 1e-9);
+    lens_faces += lens;
+  });
+  EXPECT_EQ(w.unmatched, 0) << "of " << w.inner << " inner block faces";
+  EXPECT_GT(w.surface, 0);
   EXPECT_GT(lens_faces, 0) << "no pillow under the lenses";
-  EXPECT_LT(off_surface, 1e-6 * diag);
+  EXPECT_LT(w.off_surface, 1e-6 * diag);
   // A corrupt end_strip is refused naming the file and the member.
   const std::string bad = (d / "bad.json").string();
   for (const char* edit : {R"({"lo": 0.9})", R"({"axis": 0})", R"({"corner_vertex": [0, 1, 2, 1000000000]})", R"({"hi": "top"})"}) {
@@ -259,42 +280,17 @@ TEST(PolycubeInput, AssemblysRingStandsOnItsFootAndTheComplexConforms) {
   Tree tree(faces(mesh).first, faces(mesh).second, mesh);
   tree.accelerate_distance_queries();
   const double diag = surface::bbox_diagonal(mesh);
-  std::map<std::array<std::array<long long, 3>, 4>, int> inner;
-  double off_surface = 0, top = -HUGE_VAL;
-  int surface_faces = 0, crack_faces = 0;
-  for (const auto& p : surface::vertex_array(mesh)) top = std::max(top, p[2]);
-  for (std::size_t c = 0; c < in.maps.blocks.size(); ++c)
-    for (const tmesh::Block& b : in.maps.blocks[c])
-      for (int f = 0; f < 6; ++f) {
-        const int dd = f / 2, side = f % 2;
-        std::array<std::array<long long, 3>, 4> key{};
-        double lowest = HUGE_VAL;
-        bool ring = true;
-        for (int i = 0, n = 0; i < 8; ++i) {
-          if (((i >> dd) & 1) != side) continue;
-          const tmesh::Vec3 q = in.maps.polycube(static_cast<int>(c), b.corners[static_cast<std::size_t>(i)]);
-          ring = ring && q[0] < 10;  // the ring's annulus; the plate's points lie at x >= 30
-          for (int e = 0; e < 3; ++e) key[static_cast<std::size_t>(n)][static_cast<std::size_t>(e)] = std::llround(q[e] * 1e7);
-          ++n;
-          if (!b.boundary[f]) continue;
-          const tmesh::Vec3 x = in.maps.physical(static_cast<int>(c), b.corners[static_cast<std::size_t>(i)]);
-          lowest = std::min(lowest, x[2]);
-          off_surface = std::max(off_surface, std::sqrt(CGAL::to_double(tree.squared_distance(surface::Point(x[0], x[1], x[2])))));
-        }
-        std::sort(key.begin(), key.end());
-        if (b.boundary[f]) {
-          ++surface_faces;
-          crack_faces += ring && lowest < 0.25 + 1e-6;  // a ring face down on the plate's top (z = 0.25)
-          continue;
-        }
-        ++inner[key];
-      }
-  int unmatched = 0;
-  for (const auto& [key, n] : inner) unmatched += n != 2;
-  EXPECT_EQ(unmatched, 0) << "of " << inner.size() << " inner block faces";
-  EXPECT_GT(surface_faces, 0);
+  int crack_faces = 0;
+  const FaceWalk w = walk_faces(in, tree, [&](int, const std::vector<tmesh::Vec3>&, const std::vector<tmesh::Vec3>& poly, const std::vector<tmesh::Vec3>& phys) {
+    bool ring = true, low = false;
+    for (const auto& q : poly) ring = ring && q[0] < 10;  // the ring's annulus; the plate's points lie at x >= 30
+    for (const auto& p : phys) low = low || p[2] < 0.25 + 1e-6;
+    crack_faces += ring && low;  // a ring face down on the plate's top (z = 0.25)
+  });
+  EXPECT_EQ(w.unmatched, 0) << "of " << w.inner << " inner block faces";
+  EXPECT_GT(w.surface, 0);
   EXPECT_GT(crack_faces, 0) << "no ring slab reaches the foot's ends";
-  EXPECT_LT(off_surface, 1e-6 * diag);
+  EXPECT_LT(w.off_surface, 1e-6 * diag);
   const std::string bad = (d / "bad.json").string();
   core::Json k = j;
   k["base"]["polycube"].erase("foot");
