@@ -62,6 +62,11 @@ void glue_faces(CubeComplex& k, int a, int fa, int b, int fb, const AxisMap& a_t
 /// the rod's shoulder lens beside the next sector of its eye — where the two faces are not
 /// coplanar in the solid (in_plane: the inner copy stays in their plane along that axis, inside
 /// the frame's solid; the pillow blocks are flat at that corner in the frame, not in the solid).
+/// The same holds for a crack: two occupied cubes side by side around the corner whose shared
+/// face is glued from neither side (a ring leaving the face it stands on, next to the cell beside
+/// its foot: a wedge of air in the solid, none in the complex). Its two faces are surface planes
+/// facing each other; with in_plane the inner copy stays in their plane and moves, along each
+/// other axis without a surface plane, toward the glued pair of cubes beside the crack (the foot).
 enum class OppositePlanes { refuse, in_plane };
 
 /// The pillowed blocks of every cube: its core (elements[0..2] per direction) and one slab of
