@@ -261,8 +261,10 @@ TEST(PolycubeInput, RodsEyeStandsOnTheDisksStripOfTheConnectorsLensedEnd) {
 // cubes as one complex (foot_maps). Every block corner is evaluated; the blocks conform in
 // polycube space (each inner block face is exactly one other block's: across the foot, the ring's
 // closures and the cuts near the foot's ends), every corner of a surface block face lies on the
-// input surface, the ring's cubes have blocks on the crack where the ring leaves its foot, and a
-// base without its foot or with foreign corner vertices is refused naming the member.
+// input surface, the ring's cubes have blocks on the crack where the ring leaves its foot — the
+// same with the base's parameters turned half a turn (the foot on the other face, the ring's row
+// the other way) —, and a base without its foot or with foreign corner vertices is refused naming
+// the member.
 TEST(PolycubeInput, AssemblysRingStandsOnItsFootAndTheComplexConforms) {
   const fs::path d = test::fresh_dir("pipeline", "polycube_input_assembly");
   test::write_text(d / "run.yaml", "input: {generate: assembly, resolution: 16}\n");
@@ -280,17 +282,52 @@ TEST(PolycubeInput, AssemblysRingStandsOnItsFootAndTheComplexConforms) {
   Tree tree(faces(mesh).first, faces(mesh).second, mesh);
   tree.accelerate_distance_queries();
   const double diag = surface::bbox_diagonal(mesh);
+  // Counts the ring's surface faces down on the plate's top (z = 0.25): the ring's slabs on the
+  // cracks where it leaves its foot.
+  auto count_cracks = [](int& count) -> SurfaceFace {
+    return [&count](int, const std::vector<tmesh::Vec3>&, const std::vector<tmesh::Vec3>& poly, const std::vector<tmesh::Vec3>& phys) {
+      bool ring = true, low = false;
+      for (const auto& q : poly) ring = ring && q[0] < 10;  // the ring's annulus; the plate's points lie at x >= 30
+      for (const auto& p : phys) low = low || p[2] < 0.25 + 1e-6;
+      count += ring && low;
+    };
+  };
   int crack_faces = 0;
-  const FaceWalk w = walk_faces(in, tree, [&](int, const std::vector<tmesh::Vec3>&, const std::vector<tmesh::Vec3>& poly, const std::vector<tmesh::Vec3>& phys) {
-    bool ring = true, low = false;
-    for (const auto& q : poly) ring = ring && q[0] < 10;  // the ring's annulus; the plate's points lie at x >= 30
-    for (const auto& p : phys) low = low || p[2] < 0.25 + 1e-6;
-    crack_faces += ring && low;  // a ring face down on the plate's top (z = 0.25)
-  });
+  const FaceWalk w = walk_faces(in, tree, count_cracks(crack_faces));
   EXPECT_EQ(w.unmatched, 0) << "of " << w.inner << " inner block faces";
   EXPECT_GT(w.surface, 0);
   EXPECT_GT(crack_faces, 0) << "no ring slab reaches the foot's ends";
   EXPECT_LT(w.off_surface, 1e-6 * diag);
+  // The base's parameters turned half a turn about their third axis, (u, v, w) -> (1 - u, 1 - v,
+  // w): the foot on the face u = 0 and the ring's row the other way along v (stage polycube
+  // always puts it on u = 1). The same solid, so the same checks.
+  {
+    core::Json k = j;
+    auto turn = [](core::Json& a) {
+      for (std::size_t i = 0; i + 2 < a.size(); i += 3) a[i] = 1 - a[i].get<double>(), a[i + 1] = 1 - a[i + 1].get<double>();
+    };
+    auto turn_box = [](core::Json& lo, core::Json& hi) {
+      for (std::size_t d = 0; d < 2; ++d) {
+        const double l = lo[d].get<double>(), h = hi[d].get<double>();
+        lo[d] = 1 - h, hi[d] = 1 - l;
+      }
+    };
+    core::Json& pc = k["base"]["polycube"];
+    turn(pc["points"]), turn(k["base"]["volume_map"]["parameter"]);
+    for (auto& h : pc["holes"]) turn_box(h["hole_lo"], h["hole_hi"]);
+    turn_box(pc["foot"]["lo"], pc["foot"]["hi"]);
+    for (auto& v : k["structure"]["virtual_components"])
+      for (auto& b : v["boxes"]) turn_box(b["lo"], b["hi"]);
+    const std::string turned = (d / "turned.json").string();
+    test::write_text(turned, k.dump());
+    const pipeline::PolycubeInput t = pipeline::read_polycube_input(turned, params);
+    int cracks = 0;
+    const FaceWalk tw = walk_faces(t, tree, count_cracks(cracks));
+    EXPECT_EQ(tw.unmatched, 0) << "turned: of " << tw.inner << " inner block faces";
+    EXPECT_EQ(tw.inner, w.inner);
+    EXPECT_EQ(cracks, crack_faces);
+    EXPECT_LT(tw.off_surface, 1e-6 * diag);
+  }
   const std::string bad = (d / "bad.json").string();
   core::Json k = j;
   k["base"]["polycube"].erase("foot");
