@@ -93,35 +93,30 @@ std::array<int, 3> inner_direction(const CubeComplex& k, int c, const std::array
   seen[7] = true;
   std::array<int, 3> c_side{};
   for (int d = 0; d < 3; ++d) c_side[d] = v[d] == 0 ? 1 : -1;
+  // Position of octant o along axis d relative to v, in c's parameters (+1 or -1).
+  auto position = [&](int o, int d) { return ((o >> d) & 1) ? c_side[d] : -c_side[d]; };
+  // The gluing (if any) of the face of octant o's cube toward its neighbour across axis d.
+  auto glue_toward = [&](int o, int d) -> const std::optional<CubeComplex::Glue>& {
+    Vec3 step{0, 0, 0};
+    step[d] = -position(o, d);
+    const Vec3 w = oct[o].map.linear(step);
+    int axis = 0;
+    while (w[axis] == 0) ++axis;
+    return k.glue[oct[o].cube][2 * axis + (w[axis] > 0 ? 1 : 0)];
+  };
   while (head < tail) {
     const int o = queue[head++];
     for (int d = 0; d < 3; ++d) {
       const int o2 = o ^ (1 << d);
       if (seen[o2]) continue;
-      Vec3 step{0, 0, 0};
-      step[d] = ((o >> d) & 1) ? -c_side[d] : c_side[d];
-      const Vec3 w = oct[o].map.linear(step);
-      int axis = 0;
-      while (w[axis] == 0) ++axis;
-      const int face = 2 * axis + (w[axis] > 0 ? 1 : 0);
-      const auto& g = k.glue[oct[o].cube][face];
+      const auto& g = glue_toward(o, d);
       if (!g) continue;  // a surface face: not reached from here (perhaps from another octant)
       oct[o2] = {true, g->cube, compose(g->map, oct[o].map)};
       seen[o2] = true;
       queue[tail++] = o2;
     }
   }
-  // Position of octant o along axis d relative to v, in c's parameters (+1 or -1).
-  auto position = [&](int o, int d) { return ((o >> d) & 1) ? c_side[d] : -c_side[d]; };
-  // Whether the face of octant o's cube toward its neighbour across axis d is glued.
-  auto glued = [&](int o, int d) {
-    Vec3 step{0, 0, 0};
-    step[d] = -position(o, d);
-    const Vec3 w = oct[o].map.linear(step);
-    int axis = 0;
-    while (w[axis] == 0) ++axis;
-    return k.glue[oct[o].cube][2 * axis + (w[axis] > 0 ? 1 : 0)].has_value();
-  };
+  auto glued = [&](int o, int d) { return glue_toward(o, d).has_value(); };
   // A crack: two occupied octants side by side along d whose shared face is glued from neither
   // side — a ring's next cube over the plate cell beside its foot (the development is straight;
   // in the solid there is a wedge of air between them). Both faces are surface planes facing
