@@ -257,14 +257,38 @@ TEST(PolycubeInput, RodsEyeStandsOnTheDisksStripOfTheConnectorsLensedEnd) {
 }
 
 
+// The assembly's stage file `j` with its base's parameters flipped (x -> 1 - x) along the axes
+// `flip` says: its surface map's points, its volume map's parameters, its holes' and its foot's
+// boxes and the structure's boxes.
+core::Json flip_base(core::Json k, const std::array<bool, 3>& flip) {
+  auto points = [&](core::Json& a) {
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (flip[i % 3]) a[i] = 1 - a[i].get<double>();
+  };
+  auto box = [&](core::Json& lo, core::Json& hi) {
+    for (std::size_t d = 0; d < 3; ++d) {
+      if (!flip[d]) continue;
+      const double l = lo[d].get<double>(), h = hi[d].get<double>();
+      lo[d] = 1 - h, hi[d] = 1 - l;
+    }
+  };
+  core::Json& pc = k["base"]["polycube"];
+  points(pc["points"]), points(k["base"]["volume_map"]["parameter"]);
+  for (auto& h : pc["holes"]) box(h["hole_lo"], h["hole_hi"]);
+  box(pc["foot"]["lo"], pc["foot"]["hi"]);
+  for (auto& v : k["structure"]["virtual_components"])
+    for (auto& b : v["boxes"]) box(b["lo"], b["hi"]);
+  return k;
+}
+
 // The assembly (kind torus_on_cube, examples/assembly.yaml): the plate's boxes and the ring's
 // cubes as one complex (foot_maps). Every block corner is evaluated; the blocks conform in
 // polycube space (each inner block face is exactly one other block's: across the foot, the ring's
 // closures and the cuts near the foot's ends), every corner of a surface block face lies on the
 // input surface, the ring's cubes have blocks on the crack where the ring leaves its foot — the
 // same with the base's parameters turned half a turn (the foot on the other face, the ring's row
-// the other way) —, and a base without its foot or with foreign corner vertices is refused naming
-// the member.
+// the other way) —, and a base without its foot, with foreign corner vertices or mirrored against
+// the ring is refused naming the member.
 TEST(PolycubeInput, AssemblysRingStandsOnItsFootAndTheComplexConforms) {
   const fs::path d = test::fresh_dir("pipeline", "polycube_input_assembly");
   test::write_text(d / "run.yaml", "input: {generate: assembly, resolution: 16}\n");
@@ -302,22 +326,7 @@ TEST(PolycubeInput, AssemblysRingStandsOnItsFootAndTheComplexConforms) {
   // w): the foot on the face u = 0 and the ring's row the other way along v (stage polycube
   // always puts it on u = 1). The same solid, so the same checks.
   {
-    core::Json k = j;
-    auto turn = [](core::Json& a) {
-      for (std::size_t i = 0; i + 2 < a.size(); i += 3) a[i] = 1 - a[i].get<double>(), a[i + 1] = 1 - a[i + 1].get<double>();
-    };
-    auto turn_box = [](core::Json& lo, core::Json& hi) {
-      for (std::size_t d = 0; d < 2; ++d) {
-        const double l = lo[d].get<double>(), h = hi[d].get<double>();
-        lo[d] = 1 - h, hi[d] = 1 - l;
-      }
-    };
-    core::Json& pc = k["base"]["polycube"];
-    turn(pc["points"]), turn(k["base"]["volume_map"]["parameter"]);
-    for (auto& h : pc["holes"]) turn_box(h["hole_lo"], h["hole_hi"]);
-    turn_box(pc["foot"]["lo"], pc["foot"]["hi"]);
-    for (auto& v : k["structure"]["virtual_components"])
-      for (auto& b : v["boxes"]) turn_box(b["lo"], b["hi"]);
+    const core::Json k = flip_base(j, {true, true, false});
     const std::string turned = (d / "turned.json").string();
     test::write_text(turned, k.dump());
     const pipeline::PolycubeInput t = pipeline::read_polycube_input(turned, params);
@@ -329,6 +338,8 @@ TEST(PolycubeInput, AssemblysRingStandsOnItsFootAndTheComplexConforms) {
     EXPECT_LT(tw.off_surface, 1e-6 * diag);
   }
   const std::string bad = (d / "bad.json").string();
+  test::write_text(bad, flip_base(j, {false, true, false}).dump());  // one axis: the base mirrored against the ring
+  expect_refused(bad, "mirrored", "a base mirrored against the ring");
   core::Json k = j;
   k["base"]["polycube"].erase("foot");
   test::write_text(bad, k.dump());
