@@ -803,7 +803,11 @@ tmesh::PolycubeMaps foot_maps(const std::string& in, const core::Json& j, const 
   // Where the ring leaves its foot (the foot's two ends along a), the ring's next cubes and the
   // base's cells beside the foot are cut two pillow thicknesses from that end: the slabs on the
   // crack between them taper to its root within that length (over a whole cube they were
-  // slivers that the map's kink at the root turned inside out).
+  // slivers that the map's kink at the root turned inside out). The foot cube is cut as far
+  // inside its ends (the cut runs on through the base's cells beside and under it): the concave
+  // edges along the foot's sides then have vertices of their own between its ends, whose inner
+  // copies go into the base; with only the ends' (in the plate's top plane, by the crack rule)
+  // the pillow along the whole side was flat (scaled Jacobian 0.04 there before optimization).
   std::vector<std::array<std::vector<double>, 3>> cuts(layout.boxes.size());
   {
     const double l = 2 * thickness, f0 = foot_box[0][static_cast<std::size_t>(Fa)], f1 = foot_box[1][static_cast<std::size_t>(Fa)];
@@ -811,6 +815,7 @@ tmesh::PolycubeMaps foot_maps(const std::string& in, const core::Json& j, const 
       const auto& B = layout.boxes[static_cast<std::size_t>(b)];
       if (x > B[0][static_cast<std::size_t>(Fa)] + l / 4 && x < B[1][static_cast<std::size_t>(Fa)] - l / 4) cuts[static_cast<std::size_t>(b)][static_cast<std::size_t>(Fa)].push_back(x);
     };
+    cut(plate_boxes, f0 + l), cut(plate_boxes, f1 - l);
     cut(plate_boxes + 1, face_at(plate_boxes + 1, lo_face) + sigma * l);
     cut(plate_boxes + N - 1, face_at(plate_boxes + N - 1, hi_face) - sigma * l);
     const int W = 3 - A - Fa;  // across the foot
