@@ -105,6 +105,8 @@ const std::vector<Model>& all_models() {
       {"torus-c2", "torus", "", 24, &kTorus, 0.5, "tmesh: {continuity: c2}"},
       {"eight-c2", "", "cfwen_eight.off", 24, &kEight, 0.4, "tmesh: {continuity: c2}"},
       {"rod-c2", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {continuity: c2}"},
+      {"assembly-c2", "assembly", "", 24, &kAssembly, 0.27, "tmesh: {continuity: c2}"},
+      {"rod-layers-c2", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {pillow_splits: 3, stop_at: 0.42, continuity: c2}"},
       {"tube", "", "vhacd_tube1.off", 24, nullptr},
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},

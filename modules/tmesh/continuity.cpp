@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -147,6 +148,24 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
   std::vector<std::vector<std::pair<int, std::size_t>>> where(static_cast<std::size_t>(nodes));
   for (std::size_t b = 0; b < blocks.size(); ++b)
     for (std::size_t i = 0; i < blocks[b].function_ids.size(); ++i) where[static_cast<std::size_t>(blocks[b].function_ids[i])].push_back({static_cast<int>(b), i});
+  // Positions of the nodes (any occurrence).
+  std::vector<Vec3> position(static_cast<std::size_t>(nodes));
+  Eigen::AlignedBox3d box;
+  for (std::size_t id = 0; id < where.size(); ++id)
+    if (!where[id].empty()) {
+      position[id] = blocks[static_cast<std::size_t>(where[id][0].first)].control_points[where[id][0].second];
+      box.extend(Eigen::Vector3d(position[id][0], position[id][1], position[id][2]));
+    }
+  const double tol = 1e-9 * std::max(1.0, box.isEmpty() ? 0.0 : box.diagonal().norm());
+  auto row_point_of = [&](const LineRows& rows, const std::array<int, 3>& refs, int side) {
+    const std::array<double, 3>& wt = side ? rows.b : rows.a;
+    Vec3 x{0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) x[static_cast<std::size_t>(d)] += wt[static_cast<std::size_t>(k)] * position[static_cast<std::size_t>(refs[static_cast<std::size_t>(k)])][static_cast<std::size_t>(d)];
+    return x;
+  };
+  auto row_point = [&](const Line& line, int side) { return row_point_of(line.rows, line.refs, side); };
+  auto distance = [](const Vec3& x, const Vec3& y) { return std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]); };
   using RowKey = std::vector<double>;  // (nA, nB) for unit intervals, else the knots across the face
   std::map<RowKey, LineRows> rows_of;
   std::vector<Line> lines;
@@ -181,6 +200,7 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
     }()};
     auto it = rows_of.find(key);
     if (it == rows_of.end()) it = rows_of.emplace(key, unit ? line_rows(nA, nB) : line_rows_on(ka, la, kb, la + lb)).first;
+    const std::size_t face_first = lines.size();
     for (int j = params.margin; j < A.size[w] - params.margin; ++j)
       for (int i = params.margin; i < A.size[u] - params.margin; ++i) {
         auto in_a = [&](int d) {
@@ -205,6 +225,38 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
         lines.push_back({in_a(1), in_b(1), {in_a(2), face, in_b(2)}, it->second});
         face_of_line.push_back(face_index);
       }
+    if (params.fit_ratio && params.project && lines.size() > face_first) {
+      // The rows at ratio rho (A's knots scaled by rho against B's) and how far they move the
+      // face's extras (sum of squares).
+      auto rows_at = [&](double rho) {
+        std::vector<double> sa = ka, sb = kb;
+        for (double& x : sa) x *= rho;
+        for (double& x : sb) x += la * (rho - 1);
+        return line_rows_on(sa, la * rho, sb, la * rho + lb);
+      };
+      auto cost = [&](double log_rho) {
+        const LineRows rows = rows_at(std::exp(log_rho));
+        double c = 0;
+        for (std::size_t l = face_first; l < lines.size(); ++l)
+          for (int side = 0; side < 2; ++side) {
+            const double d = distance(row_point_of(rows, lines[l].refs, side), position[static_cast<std::size_t>(side ? lines[l].extra_b : lines[l].extra_a)]);
+            c += d * d;
+          }
+        return c;
+      };
+      // Golden-section search on log rho in [-log 8, log 8] (the cost is smooth in rho).
+      const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+      double lo = -std::log(8.0), hi = std::log(8.0);
+      double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = cost(x1), f2 = cost(x2);
+      for (int iter = 0; iter < 40 && hi - lo > 1e-4; ++iter) {
+        if (f1 <= f2) hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = cost(x1);
+        else lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = cost(x2);
+      }
+      // The search finds a local minimum: index space's ratio when that moves less.
+      const double best = f1 <= f2 ? x1 : x2;
+      const LineRows rows = rows_at(std::exp(std::min(f1, f2) <= cost(0.0) ? best : 0.0));
+      for (std::size_t l = face_first; l < lines.size(); ++l) lines[l].rows = rows;
+    }
   }
   // A row names free points only: drop lines whose rows name another line's extra (or whose
   // extras are another's), until none does.
@@ -221,22 +273,26 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
       if (bad) keep[l] = 0, changed = true;
     }
   }
-  // Positions of the nodes (any occurrence), then the rows and the moved extras.
-  std::vector<Vec3> position(static_cast<std::size_t>(nodes));
-  Eigen::AlignedBox3d box;
-  for (std::size_t id = 0; id < where.size(); ++id)
-    if (!where[id].empty()) {
-      position[id] = blocks[static_cast<std::size_t>(where[id][0].first)].control_points[where[id][0].second];
-      box.extend(Eigen::Vector3d(position[id][0], position[id][1], position[id][2]));
-    }
-  const double tol = 1e-9 * std::max(1.0, box.isEmpty() ? 0.0 : box.diagonal().norm());
-  auto row_point = [&](const Line& line, int side) {
-    const std::array<double, 3>& wt = side ? line.rows.b : line.rows.a;
-    Vec3 x{0, 0, 0};
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 3; ++d) x[static_cast<std::size_t>(d)] += wt[static_cast<std::size_t>(k)] * position[static_cast<std::size_t>(line.refs[static_cast<std::size_t>(k)])][static_cast<std::size_t>(d)];
-    return x;
-  };
+  if (params.project && std::isfinite(params.max_move_rel))
+    for (std::size_t l = 0; l < lines.size(); ++l)
+      for (int side = 0; side < 2 && keep[l]; ++side) {
+        const int extra = side ? lines[l].extra_b : lines[l].extra_a;
+        const Vec3& y = position[static_cast<std::size_t>(extra)];
+        // Its nearest neighbour in its block's grid (a thin slab's: across the slab).
+        double reach = std::numeric_limits<double>::infinity();
+        for (const auto& [blk, at] : where[static_cast<std::size_t>(extra)]) {
+          const TMesh& t = blocks[static_cast<std::size_t>(blk)];
+          const std::array<int, 3> g = grid_index(t, at);
+          for (int axis = 0; axis < 3; ++axis)
+            for (const int step : {-1, 1}) {
+              std::array<int, 3> n = g;
+              n[static_cast<std::size_t>(axis)] += step;
+              if (n[static_cast<std::size_t>(axis)] < 0 || n[static_cast<std::size_t>(axis)] >= t.size[axis]) continue;
+              reach = std::min(reach, distance(y, t.control_points[local_index(t, n)]));
+            }
+        }
+        if (distance(row_point(lines[l], side), y) > params.max_move_rel * reach) keep[l] = 0, ++r.lines_kept;
+      }
   if (!params.project)  // only where the spline is C2 along the line already
     for (std::size_t l = 0; l < lines.size(); ++l)
       for (int side = 0; side < 2 && keep[l]; ++side) {
@@ -253,6 +309,7 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
       const int extra = side ? line.extra_b : line.extra_a;
       const std::array<double, 3>& wt = side ? line.rows.b : line.rows.a;
       const Vec3 x = row_point(line, side);
+      r.moved_max = std::max(r.moved_max, distance(x, position[static_cast<std::size_t>(extra)]));
       for (const auto& [blk, at] : where[static_cast<std::size_t>(extra)]) {
         blocks[static_cast<std::size_t>(blk)].control_points[at] = x;
         TMesh::Constraint c;

@@ -9,10 +9,14 @@
 // Lines within `margin` face points of the face's rim keep the repeated knots: at the block
 // edges, where three (the pillow's corners) or five blocks meet, that is the template of C0
 // around the irregular nodes; at regular edges too for now (tensor rows there are the next step).
-// docs/status.md "Session 39" has the plan.
+// docs/status.md "Session 39" has the plan. volts-tmesh (`tmesh.continuity: c2`, session 50) adds
+// the rows to the net as it goes out (optimized and h-refined: one refined element of C0 at the
+// rims), fits each face's knot-interval ratio and bounds the moves (fit_ratio, max_move_rel
+// below), then optimizes again (optimize_moved, optimize.h).
 #pragma once
 
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "tmesh/tmesh.h"
@@ -34,6 +38,16 @@ struct ContinuityParams {
   /// pillow layer was split further (Params::pillow_splits) is C2 in the units of its uniform
   /// refinement: its blocks' spans there before the split (refinement_splits()).
   std::vector<std::array<double, 3>> lengths;
+  /// With `project`: per face, the ratio of the knot intervals on its two sides (A's scaled
+  /// against B's, within [1/8, 8], golden-section search on its logarithm) that moves the
+  /// extras least, so the C2 spline is the one nearest the net's (any positive ratio is a C2
+  /// spline: the faces' parameters are glued by an affine map each, as the blocks' index spaces
+  /// are). false: the ratio `lengths` gives (index space: 1).
+  bool fit_ratio = false;
+  /// With `project`: a line whose extra would move farther than this times its distance to the
+  /// face point keeps C0 (a thin pillow slab's line projected across it folds its elements).
+  /// Infinity: every line.
+  double max_move_rel = std::numeric_limits<double>::infinity();
 };
 
 struct ContinuityResult {
@@ -41,6 +55,8 @@ struct ContinuityResult {
   int lines = 0;        ///< lines of control points across them made C2
   int constrained = 0;  ///< control points that became rows (two per line)
   int faces_kept = 0;   ///< inner faces left C0: levels differ, T-junctions on them, or no line away from the rim
+  double moved_max = 0;  ///< the largest distance a constrained point moved (projection)
+  int lines_kept = 0;    ///< lines left C0 by max_move_rel
 };
 
 /// A block face two blocks share (the same four corner ids): face `fa` (2·axis + side) of block

@@ -1595,7 +1595,7 @@ void set_net_points(std::vector<TMesh>& blocks, const NetPoints& p) {
 }
 
 // One run of the optimization (optimize() retries it, OptimizeParams::fold_retry).
-OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
+OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface, const std::vector<TMesh>* settled) {
   OptimizeResult r;
   State st(blocks, params, r);
   Spline& s = st.s;
@@ -1607,6 +1607,19 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
   for (const TMesh& t : blocks) x_rows.emplace_back(t.degree, params.gauss_points, params.grid_points);
   auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
   std::vector<std::vector<Eigen::Vector3d>> checked;  // sample_dips_densely's: elements checked and not moved since
+  if (settled) {  // optimize_moved: the elements the move left as they were count as checked
+    std::vector<TMesh> before = *settled;
+    const Spline old(before);
+    if (old.size() != s.size()) throw core::InvalidInputError("optimize_moved: the settled net has " + std::to_string(old.size()) + " elements, the net " + std::to_string(s.size()));
+    checked.resize(s.size());
+    pool.for_each(s.size(), [&](std::size_t e) {
+      bezier::BezierHex h = s.hex(e);
+      if (h.points == old.hex(e).points) checked[e] = std::move(h.points);
+    });
+    std::size_t moved = 0;
+    for (const auto& c : checked) moved += c.empty() ? 1 : 0;
+    core::log(std::to_string(moved) + " of " + std::to_string(s.size()) + " elements moved since the net was optimized: checked between their samples");
+  }
   // The nodes at the best cycle end, judged once that end's dips are on the check grid: within a
   // cycle no figure falls, but the dips a cycle's moves open between the samples are only found
   // at its end, and a last cycle may open deeper ones than it raised (the pillowed twist 0.8:
@@ -1728,12 +1741,26 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
 
 }  // namespace
 
+namespace {
+OptimizeResult optimize_with(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface, const std::vector<TMesh>* settled);
+}  // namespace
+
 OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
+  return optimize_with(blocks, params, surface, nullptr);
+}
+
+OptimizeResult optimize_moved(std::vector<TMesh>& blocks, const std::vector<TMesh>& settled, const OptimizeParams& params, const SlideSurface* surface) {
+  return optimize_with(blocks, params, surface, &settled);
+}
+
+namespace {
+
+OptimizeResult optimize_with(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface, const std::vector<TMesh>* settled) {
   check(params);
   const bool may_retry = surface && params.fold_retry && params.sweeps > 0 && params.slide_from != OptimizeParams::SlideFrom::start;
   NetPoints start;
   if (may_retry) start = net_points(blocks);
-  OptimizeResult first = optimize_once(blocks, params, surface);
+  OptimizeResult first = optimize_once(blocks, params, surface, settled);
   if (!may_retry || first.invalid_after == 0) return first;
   core::log_warning(std::to_string(first.invalid_after) +
                     " elements are left not certified valid: the optimization runs again from the start with surface nodes sliding from "
@@ -1746,7 +1773,7 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   OptimizeResult second;
   {
     core::LogSection phase("optimization again, sliding from the start");
-    second = optimize_once(blocks, again, surface);
+    second = optimize_once(blocks, again, surface, settled);
   }
   const bool better = second.invalid_after < first.invalid_after ||
                       (second.invalid_after == first.invalid_after && second.min_after_checked > first.min_after_checked);
@@ -1759,6 +1786,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
   r.retry = retry;
   return r;
 }
+
+}  // namespace
 
 OptimizeResult repair_folds(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface) {
   check(params);

@@ -253,6 +253,14 @@ struct OptimizeResult {
 /// points stay fixed). Throws core::ConfigError for parameters out of range.
 OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params, const SlideSurface* surface = nullptr);
 
+/// optimize() on a net that moved locally since it was optimized (volts-tmesh: the C2 rows
+/// projected onto the h-refined net, continuity.h). `settled` is the same net before the move
+/// (same blocks and knots): its elements whose Bézier points the move left as they were count as
+/// checked between their samples, so the check grid (check_points) looks only at the elements
+/// the move or the rounds touched. Throws core::InvalidInputError when `settled` has another
+/// element count, core::ConfigError as optimize.
+OptimizeResult optimize_moved(std::vector<TMesh>& blocks, const std::vector<TMesh>& settled, const OptimizeParams& params, const SlideSurface* surface = nullptr);
+
 /// Repairs the folds `optimize` left: joint rounds on the nodes of the elements not certified
 /// valid and of two rings of their neighbours, until every element is certified valid or a
 /// round fixes none. No element certified valid loses its certificate or falls below the worst

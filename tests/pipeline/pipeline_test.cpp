@@ -353,11 +353,13 @@ TEST(Pipeline, TorusRunsEndToEndAsARingOfFourCubes) {
 
 TEST(Pipeline, TorusWithC2FacesKeepsItsFiguresWithFewerFunctions) {
   // tmesh.continuity c2 (continuity.h): the faces between blocks C2 away from their rims, on the
-  // optimized net and again on the refined one where it is C2. The same torus as the demo with
-  // c0 and c2: every element valid in both, c2's worst at least 0.5 (measured 0.534, the same
-  // as c0), a partition of unity, and one global function fewer per smooth row of the refined
-  // net; the rows are in the stage file, marked smooth; every export still parses. A c2 run of
-  // quadratic splines is refused before any stage.
+  // optimized and h-refined net, projected (each face's ratio fitted, moves bounded) and optimized
+  // again. The same torus as the demo with c0 and c2: every element valid in both, c2's worst at
+  // least 0.5 (measured 0.534, the same as c0), a partition of unity, one global function fewer
+  // per smooth row, and at least 15 % fewer functions than c0 (measured 20 %: 11,240 -> 8,998;
+  // 3 % when the rows were on the optimized net, session 39); the rows are in the stage file,
+  // marked smooth; every export still parses. A c2 run of quadratic splines is refused before
+  // any stage.
   const fs::path d = test::fresh_dir("pipeline", "torus_c2");
   auto run = [&](const std::string& name, const std::string& tmesh) {
     test::write_text(d / (name + ".yaml"), "input: {generate: torus, resolution: 24}\ntmesh: {" + tmesh + "}\n");
@@ -370,21 +372,23 @@ TEST(Pipeline, TorusWithC2FacesKeepsItsFiguresWithFewerFunctions) {
   const core::Json& c = rep2["stages"]["tmesh"]["continuity"];
   EXPECT_EQ(c["mode"], "c2");
   EXPECT_EQ(rep0["stages"]["tmesh"]["continuity"]["mode"], "c0");
-  EXPECT_GT(c["optimized"]["faces"].get<int>(), 0);
-  EXPECT_GT(c["refined"]["lines"].get<int>(), 0);
-  EXPECT_EQ(c["refined"]["constrained"].get<int>(), 2 * c["refined"]["lines"].get<int>());
+  EXPECT_GT(c["faces"].get<int>(), 0);
+  EXPECT_GT(c["lines"].get<int>(), 0);
+  EXPECT_EQ(c["constrained"].get<int>(), 2 * c["lines"].get<int>());
+  EXPECT_EQ(c["reoptimization"]["not_certified_valid_after"].get<int>(), 0);
   const core::Json& x0 = rep0["stages"]["extract"];
   const core::Json& x2 = rep2["stages"]["extract"];
   EXPECT_EQ(x2["certified_valid"], x2["bezier_elements"]);
   EXPECT_EQ(x2["bezier_elements"], x0["bezier_elements"]);
   EXPECT_GE(x2["min_scaled_jacobian"].get<double>(), 0.5);
   EXPECT_LT(x2["partition_of_unity_error"].get<double>(), 1e-12);
-  EXPECT_EQ(x2["global_functions"].get<int>() + c["refined"]["constrained"].get<int>(), x0["global_functions"].get<int>());
+  EXPECT_EQ(x2["global_functions"].get<int>() + c["constrained"].get<int>(), x0["global_functions"].get<int>());
+  EXPECT_LT(x2["global_functions"].get<double>(), 0.85 * x0["global_functions"].get<double>());
   int smooth = 0;
   const core::Json stage = core::read_stage_file((d / "c2" / "tmesh.stage.json").string(), "volts-tmesh", 3);
   for (const auto& t : stage["tmeshes"])
     for (const auto& k : t["constraints"]) smooth += k.value("smooth", false) ? 1 : 0;
-  EXPECT_GE(smooth, c["refined"]["constrained"].get<int>());  // a point on a face between blocks is in both
+  EXPECT_GE(smooth, c["constrained"].get<int>());  // a point on a face between blocks is in both
   test::expect_every_export_parses(d / "c2", /*gmsh_check=*/false);
   const test::Outcome bad = run("quadratic", "continuity: c2, degree: 2");
   EXPECT_EQ(bad.code, 3) << bad.output;

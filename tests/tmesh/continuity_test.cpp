@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <functional>
 #include <set>
@@ -380,4 +382,80 @@ TEST(Continuity, BadInputIsRefused) {
   quad.level = 3, quad.pillow_layers = 1, quad.degree = 2;
   std::vector<tmesh::TMesh> q = tmesh::build(m, quad);
   EXPECT_THROW(tmesh::raise_continuity(q), core::ConfigError);
+}
+
+// Any positive ratio of the knot intervals on a face's two sides is a C2 spline (the blocks'
+// parameters are glued by an affine map per face). A net made C2 with block lengths that are not
+// its element counts (ratios 2.5 and 0.4 across the faces) is moved by the rows of index space's
+// ratio 1; with the ratio fitted per face it is moved by almost nothing, and it is C2 in the
+// lengths it was made with.
+TEST(Continuity, AFittedRatioFindsTheKnotIntervalsANetIsC2In) {
+  for (const Case& c : family()) {
+    std::vector<tmesh::TMesh> net = c.make();
+    tmesh::ContinuityParams made;
+    for (std::size_t b = 0; b < net.size(); ++b) {
+      const double s = b % 2 ? 2.5 : 1.0;
+      made.lengths.push_back({s * (net[b].size[0] - 3), s * (net[b].size[1] - 3), s * (net[b].size[2] - 3)});
+    }
+    const tmesh::ContinuityResult r0 = tmesh::raise_continuity(net, made);
+    ASSERT_GT(r0.lines, 0) << c.name;
+    for (auto& t : net) t.constraints.clear();
+    std::vector<tmesh::TMesh> unit = net, fitted = net;
+    const tmesh::ContinuityResult ru = tmesh::raise_continuity(unit);
+    tmesh::ContinuityParams fit;
+    fit.fit_ratio = true;
+    const tmesh::ContinuityResult rf = tmesh::raise_continuity(fitted, fit);
+    std::printf("%s: %d lines; moved up to %.3g with ratio 1, %.3g with the ratio fitted\n", c.name, rf.lines, ru.moved_max, rf.moved_max);
+    EXPECT_EQ(rf.lines, ru.lines) << c.name;
+    EXPECT_GT(ru.moved_max, 1e-3) << c.name << ": index space's ratio fits too, the check proves nothing";
+    EXPECT_LT(rf.moved_max, 1e-3 * ru.moved_max) << c.name;
+    double worst = 0;
+    for (const Face& f : merged_faces(fitted)) {
+      const Jump j = jump(fitted, f, &made.lengths);
+      worst = std::max({worst, j.d1 / j.scale, j.d2 / j.scale});
+    }
+    EXPECT_LT(worst, 1e-3) << c.name << ": not C2 in the lengths the net was made with";
+  }
+}
+
+// ContinuityParams::max_move_rel: a line whose extra would move farther than that fraction of
+// the distance to its nearest neighbour keeps C0; the rest are the lines of the unbounded run.
+TEST(Continuity, LinesThatWouldMoveTooFarKeepC0) {
+  constexpr double kBound = 0.02;
+  int bounded_cases = 0;  // where the bound keeps some line C0 (the ring of 4 is nearly C2 already)
+  for (const Case& c : family()) {
+    const std::vector<tmesh::TMesh> start = c.make();
+    std::vector<tmesh::TMesh> all = start, bounded = start;
+    const tmesh::ContinuityResult ra = tmesh::raise_continuity(all);
+    tmesh::ContinuityParams p;
+    p.max_move_rel = kBound;
+    const tmesh::ContinuityResult rb = tmesh::raise_continuity(bounded, p);
+    std::printf("%s: %d of %d lines moved by at most %g of their nearest neighbour's distance\n", c.name, rb.lines, ra.lines, kBound);
+    EXPECT_EQ(rb.lines + rb.lines_kept, ra.lines) << c.name;
+    bounded_cases += rb.lines_kept > 0 ? 1 : 0;
+    EXPECT_LE(rb.moved_max, ra.moved_max);
+    double worst = 0;  // a moved point's move over kBound of its nearest neighbour's distance
+    for (std::size_t b = 0; b < start.size(); ++b) {
+      const tmesh::TMesh& t = start[b];
+      for (std::size_t i = 0; i < t.control_points.size(); ++i) {
+        const Eigen::Vector3d x0(t.control_points[i][0], t.control_points[i][1], t.control_points[i][2]);
+        const Eigen::Vector3d x(bounded[b].control_points[i][0], bounded[b].control_points[i][1], bounded[b].control_points[i][2]);
+        if ((x - x0).norm() == 0) continue;
+        const int k = static_cast<int>(i);
+        const std::array<int, 3> g{k % t.size[0], (k / t.size[0]) % t.size[1], k / (t.size[0] * t.size[1])};
+        double reach = std::numeric_limits<double>::infinity();
+        for (int a = 0; a < 3; ++a)
+          for (const int step : {-1, 1}) {
+            std::array<int, 3> n = g;
+            n[static_cast<std::size_t>(a)] += step;
+            if (n[static_cast<std::size_t>(a)] < 0 || n[static_cast<std::size_t>(a)] >= t.size[a]) continue;
+            const auto& y = t.control_points[at(t, n)];
+            reach = std::min(reach, (x0 - Eigen::Vector3d(y[0], y[1], y[2])).norm());
+          }
+        worst = std::max(worst, (x - x0).norm() / (kBound * reach));
+      }
+    }
+    EXPECT_LE(worst, 1.0 + 1e-9) << c.name;
+  }
+  EXPECT_GE(bounded_cases, 3) << "no line moves that far: the check proves nothing";
 }

@@ -469,6 +469,30 @@ TEST(Optimize, ElementsWhoseFieldDipsBetweenTheSamplesAreSampledOnTheCheckGrid) 
   }
 }
 
+// optimize_moved (volts-tmesh after the C2 projection): elements the move left as they were count
+// as checked between their samples. On a net optimized without the check grid, whose field dips
+// between its samples, with every element at the target (nothing to move): optimize finds the
+// dips on the check grid, optimize_moved with the net itself as the settled one checks none. A
+// settled net of another element count is refused.
+TEST(Optimize, OptimizeMovedChecksOnlyTheElementsThatMoved) {
+  tmesh::OptimizeParams op = twist_family_params();
+  op.grid_points = 2;
+  op.cycles = 1;
+  std::vector<tmesh::TMesh> net = blocks(1, 1.2);
+  const tmesh::OptimizeResult first = tmesh::optimize(net, op);
+  op.target = first.min_after;  // every element at it: no round, only the check
+  op.check_points = 9;
+  std::vector<tmesh::TMesh> a = net, b = net;
+  const tmesh::OptimizeResult ra = tmesh::optimize(a, op);
+  const tmesh::OptimizeResult rb = tmesh::optimize_moved(b, net, op);
+  std::printf("dips on the 9^3 grid: %d with optimize, %d with optimize_moved of an unmoved net\n", ra.elements_on_check_grid, rb.elements_on_check_grid);
+  EXPECT_GT(ra.elements_on_check_grid, 0) << "no dip: the check proves nothing";
+  EXPECT_EQ(rb.elements_on_check_grid, 0);
+  EXPECT_EQ(b[0].control_points, net[0].control_points);
+  std::vector<tmesh::TMesh> wrong = blocks(0, 1.2);
+  EXPECT_THROW(tmesh::optimize_moved(b, wrong, op), core::InvalidInputError);
+}
+
 // The best cycle end is kept (OptimizeResult::cycle_kept): a cycle's moves can open dips between
 // the samples that only the check after it finds, deeper than those it raised. Over the pillowed
 // twists at the corner + Gauss sample (grid_points 2), three cycles never end with more elements
