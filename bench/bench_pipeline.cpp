@@ -100,8 +100,8 @@ const std::vector<Model>& all_models() {
       {"torus-eps", "torus", "", 24, &kTorus, 0.5, "tmesh: {epsilon_rel: 0.001}"},
       {"torus-spans", "torus", "", 24, &kTorus, 0.5, "tmesh: {epsilon_rel: 0.001, refine: spans}"},
       {"eight-spans", "", "cfwen_eight.off", 24, &kEight, 0.4, "tmesh: {epsilon_rel: 0.002, refine: spans}"},
-      // C2 across the faces between blocks (tmesh.continuity c2, session 39): the figures and the
-      // global functions against the defaults' C0.
+      // C2 across the faces between blocks (tmesh.continuity c2; on the optimized, h-refined net
+      // since session 50): the figures and the global functions against the defaults' C0.
       {"torus-c2", "torus", "", 24, &kTorus, 0.5, "tmesh: {continuity: c2}"},
       {"eight-c2", "", "cfwen_eight.off", 24, &kEight, 0.4, "tmesh: {continuity: c2}"},
       {"rod-c2", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {continuity: c2}"},

@@ -1608,16 +1608,20 @@ OptimizeResult optimize_once(std::vector<TMesh>& blocks, const OptimizeParams& p
   auto summary = [&](double* worst, int* invalid) { summarize(q, worst, invalid); };
   std::vector<std::vector<Eigen::Vector3d>> checked;  // sample_dips_densely's: elements checked and not moved since
   if (settled) {  // optimize_moved: the elements the move left as they were count as checked
-    std::vector<TMesh> before = *settled;
-    const Spline old(before);
-    if (old.size() != s.size()) throw core::InvalidInputError("optimize_moved: the settled net has " + std::to_string(old.size()) + " elements, the net " + std::to_string(s.size()));
+    bool same = settled->size() == blocks.size();
+    for (std::size_t b = 0; same && b < blocks.size(); ++b) same = (*settled)[b].control_points.size() == blocks[b].control_points.size();
+    if (!same) throw core::InvalidInputError("optimize_moved: the settled net's blocks are not the net's");
     checked.resize(s.size());
-    pool.for_each(s.size(), [&](std::size_t e) {
-      bezier::BezierHex h = s.hex(e);
-      if (h.points == old.hex(e).points) checked[e] = std::move(h.points);
-    });
     std::size_t moved = 0;
-    for (const auto& c : checked) moved += c.empty() ? 1 : 0;
+    for (std::size_t e = 0; e < s.size(); ++e) {
+      const auto& now = blocks[static_cast<std::size_t>(s.block_of(e))].control_points;
+      const auto& then = (*settled)[static_cast<std::size_t>(s.block_of(e))].control_points;
+      const std::vector<int>& pts = s.points_of(e);
+      if (std::all_of(pts.begin(), pts.end(), [&](int i) { return now[static_cast<std::size_t>(i)] == then[static_cast<std::size_t>(i)]; }))
+        checked[e] = s.hex(e).points;
+      else
+        ++moved;
+    }
     core::log(std::to_string(moved) + " of " + std::to_string(s.size()) + " elements moved since the net was optimized: checked between their samples");
   }
   // The nodes at the best cycle end, judged once that end's dips are on the check grid: within a

@@ -257,8 +257,8 @@ OptimizeResult optimize(std::vector<TMesh>& blocks, const OptimizeParams& params
 /// projected onto the h-refined net, continuity.h). `settled` is the same net before the move
 /// (same blocks and knots): its elements whose Bézier points the move left as they were count as
 /// checked between their samples, so the check grid (check_points) looks only at the elements
-/// the move or the rounds touched. Throws core::InvalidInputError when `settled` has another
-/// element count, core::ConfigError as optimize.
+/// the move or the rounds touched. Throws core::InvalidInputError when `settled`'s blocks do not
+/// have the net's control point counts, core::ConfigError as optimize.
 OptimizeResult optimize_moved(std::vector<TMesh>& blocks, const std::vector<TMesh>& settled, const OptimizeParams& params, const SlideSurface* surface = nullptr);
 
 /// Repairs the folds `optimize` left: joint rounds on the nodes of the elements not certified
