@@ -78,9 +78,10 @@ struct Params {
   /// and keep the better end (OptimizeParams::fold_retry).
   bool fold_retry = true;
   /// Continuity across the faces between blocks: "c0" (every block face a zero-parametric-length
-  /// layer) or "c2" (raise_continuity(), continuity.h: C2 across the faces between blocks of one
-  /// level away from their rims — C0 stays within two control points of every block edge, the
-  /// template around irregular nodes; cubic only).
+  /// layer) or "c2" (raise_continuity(), continuity.h, on the optimized and h-refined net: C2
+  /// across the faces between blocks of one level away from their rims — C0 stays within two
+  /// control points of every block edge, the template around irregular nodes — then optimized
+  /// again by volts-tmesh; cubic only).
   std::string continuity = "c0";
   /// Surface nodes on sharp curves slide along them too, away from sharp corners
   /// (OptimizeParams::slide_sharp_curves).
