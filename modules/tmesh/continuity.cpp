@@ -97,6 +97,7 @@ struct Line {
   int extra_a = 0, extra_b = 0;
   std::array<int, 3> refs{};
   LineRows rows;
+  bool surface = false;  // in the surface layer (ContinuityParams::surface_layer): its extras are surface points
 };
 
 }  // namespace
@@ -201,8 +202,11 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
     auto it = rows_of.find(key);
     if (it == rows_of.end()) it = rows_of.emplace(key, unit ? line_rows(nA, nB) : line_rows_on(ka, la, kb, la + lb)).first;
     const std::size_t face_first = lines.size();
-    for (int j = params.margin; j < A.size[w] - params.margin; ++j)
-      for (int i = params.margin; i < A.size[u] - params.margin; ++i) {
+    // Rims on the surface (surface_layer): no other face shares them, so no margin.
+    auto lo = [&](int axis) { return params.surface_layer && A.boundary[static_cast<std::size_t>(2 * axis)] ? 0 : params.margin; };
+    auto hi = [&](int axis) { return params.surface_layer && A.boundary[static_cast<std::size_t>(2 * axis + 1)] ? 0 : params.margin; };
+    for (int j = lo(w); j < A.size[w] - hi(w); ++j)
+      for (int i = lo(u); i < A.size[u] - hi(u); ++i) {
         auto in_a = [&](int d) {
           std::array<int, 3> idx{};
           idx[static_cast<std::size_t>(a)] = fa % 2 ? A.size[a] - 1 - d : d, idx[static_cast<std::size_t>(u)] = i, idx[static_cast<std::size_t>(w)] = j;
@@ -222,7 +226,9 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
           k[static_cast<std::size_t>(ab)] = fb % 2 ? B.size[ab] - 1 - d : d;
           return B.function_ids[local_index(B, k)];
         };
-        lines.push_back({in_a(1), in_b(1), {in_a(2), face, in_b(2)}, it->second});
+        const bool surface = (A.boundary[static_cast<std::size_t>(2 * u)] && i == 0) || (A.boundary[static_cast<std::size_t>(2 * u + 1)] && i == A.size[u] - 1) ||
+                             (A.boundary[static_cast<std::size_t>(2 * w)] && j == 0) || (A.boundary[static_cast<std::size_t>(2 * w + 1)] && j == A.size[w] - 1);
+        lines.push_back({in_a(1), in_b(1), {in_a(2), face, in_b(2)}, it->second, surface});
         face_of_line.push_back(face_index);
       }
     if (params.fit_ratio && params.project && lines.size() > face_first) {
@@ -273,7 +279,7 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
       if (bad) keep[l] = 0, changed = true;
     }
   }
-  if (params.project && std::isfinite(params.max_move_rel))
+  if (params.project && (std::isfinite(params.max_move_rel) || params.surface_layer))
     for (std::size_t l = 0; l < lines.size(); ++l)
       for (int side = 0; side < 2 && keep[l]; ++side) {
         const int extra = side ? lines[l].extra_b : lines[l].extra_a;
@@ -291,7 +297,8 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
               reach = std::min(reach, distance(y, t.control_points[local_index(t, n)]));
             }
         }
-        if (distance(row_point(lines[l], side), y) > params.max_move_rel * reach) keep[l] = 0, ++r.lines_kept;
+        const double move = distance(row_point(lines[l], side), y);
+        if (move > params.max_move_rel * reach || (lines[l].surface && move > params.surface_move_max)) keep[l] = 0, ++r.lines_kept;
       }
   if (!params.project)  // only where the spline is C2 along the line already
     for (std::size_t l = 0; l < lines.size(); ++l)
@@ -322,6 +329,7 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
       ++r.constrained;
     }
     ++r.lines;
+    r.surface_lines += line.surface ? 1 : 0;
     faces_used.insert(face_of_line[l]);
   }
   for (std::size_t b = 0; b < blocks.size(); ++b) {

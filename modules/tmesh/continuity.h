@@ -11,8 +11,9 @@
 // around the irregular nodes; at regular edges too for now (tensor rows there are the next step).
 // docs/status.md "Session 39" has the plan. volts-tmesh (`tmesh.continuity: c2`, session 50) adds
 // the rows to the net as it goes out (optimized and h-refined: one refined element of C0 at the
-// rims), fits each face's knot-interval ratio and bounds the moves (fit_ratio, max_move_rel
-// below), then optimizes again (optimize_moved, optimize.h).
+// inner rims), up to and on the surface (surface_layer, a surface point moving at most a tenth of
+// epsilon_rel), fits each face's knot-interval ratio and bounds the moves (fit_ratio,
+// max_move_rel below), then optimizes again (optimize_moved, optimize.h).
 #pragma once
 
 #include <array>
@@ -48,6 +49,14 @@ struct ContinuityParams {
   /// face point keeps C0 (a thin pillow slab's line projected across it folds its elements).
   /// Infinity: every line.
   double max_move_rel = std::numeric_limits<double>::infinity();
+  /// Rims of a face on the surface keep no margin: the lines up to the surface are made C2 too,
+  /// the lines in the surface itself moving surface control points (the boundary moves by at
+  /// most their largest move: the basis is non-negative and sums to one). false: every rim keeps
+  /// `margin` (C0 on the surface across block faces).
+  bool surface_layer = false;
+  /// With surface_layer and `project`: a line in the surface whose extra would move farther than
+  /// this (a length) keeps C0 — a sharp edge along the rim would be rounded.
+  double surface_move_max = std::numeric_limits<double>::infinity();
 };
 
 struct ContinuityResult {
@@ -56,7 +65,8 @@ struct ContinuityResult {
   int constrained = 0;  ///< control points that became rows (two per line)
   int faces_kept = 0;   ///< inner faces left C0: levels differ, T-junctions on them, or no line away from the rim
   double moved_max = 0;  ///< the largest distance a constrained point moved (projection)
-  int lines_kept = 0;    ///< lines left C0 by max_move_rel
+  int lines_kept = 0;    ///< lines left C0 by max_move_rel or surface_move_max
+  int surface_lines = 0; ///< lines in the surface among `lines` (surface_layer)
 };
 
 /// A block face two blocks share (the same four corner ids): face `fa` (2·axis + side) of block

@@ -74,7 +74,8 @@ std::vector<Case> family() {
 // `length` units along `a` when given, its elements alike), of block t's spline along its axis `a`
 // at the face `side` of the face centre, toward the face (exact: four points in the element next
 // to the face, where the spline is a cubic polynomial).
-std::pair<Eigen::Vector3d, Eigen::Vector3d> face_derivatives(const tmesh::TMesh& t, int a, int side, double length = 0) {
+std::pair<Eigen::Vector3d, Eigen::Vector3d> face_derivatives(const tmesh::TMesh& t, int a, int side, double length = 0,
+                                                             const Eigen::Vector3d& at_face = Eigen::Vector3d(0.5, 0.5, 0.5)) {
   const bezier::TensorBSplineVolume vol = test::volume(t);
   const int n = t.size[a] - t.degree;
   const double units = length > 0 ? length : n;
@@ -84,7 +85,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> face_derivatives(const tmesh::TMesh&
   const double h = 0.25 * units * last;
   Eigen::Vector3d f[4];
   for (int k = 0; k < 4; ++k) {
-    Eigen::Vector3d uvw(0.5, 0.5, 0.5);
+    Eigen::Vector3d uvw = at_face;
     uvw[a] = side ? 1.0 - k * h / units : k * h / units;
     f[k] = bezier::evaluate(vol, uvw);
   }
@@ -458,4 +459,95 @@ TEST(Continuity, LinesThatWouldMoveTooFarKeepC0) {
     EXPECT_LE(worst, 1.0 + 1e-9) << c.name;
   }
   EXPECT_GE(bounded_cases, 3) << "no line moves that far: the check proves nothing";
+}
+
+// ContinuityParams::surface_layer: the rims of a face on the surface keep no margin, so the
+// spline is C2 across the face up to the surface and on it (the pillowed cubes' faces between
+// slabs, the ring's between cubes): at the middle of every such rim whose lines got rows, the
+// derivatives across agree where before they did not; there are more lines than without it; and
+// with surface_move_max no surface point moves farther than it.
+TEST(Continuity, TheSurfaceLayerIsC2AcrossFacesUpToTheSurface) {
+  for (const Case& c : family()) {
+    const std::vector<tmesh::TMesh> start = c.make();
+    std::vector<tmesh::TMesh> inner = start, up = start;
+    const tmesh::ContinuityResult ri = tmesh::raise_continuity(inner);
+    tmesh::ContinuityParams p;
+    p.surface_layer = true;
+    const tmesh::ContinuityResult ru = tmesh::raise_continuity(up, p);
+    // The middle of every rim on the surface of a merged face, in both blocks' parameters.
+    int rims = 0;
+    double worst_before = 0, worst_after = 0;
+    for (const tmesh::SharedFace& sf : tmesh::shared_faces(up)) {
+      const tmesh::TMesh& A = up[static_cast<std::size_t>(sf.a)];
+      const tmesh::TMesh& B = up[static_cast<std::size_t>(sf.b)];
+      const int a = sf.fa / 2, ab = sf.fb / 2;
+      for (const int t : {(a + 1) % 3, (a + 2) % 3})
+        for (const int side : {0, 1}) {
+          if (!A.boundary[static_cast<std::size_t>(2 * t + side)]) continue;
+          const int o = 3 - a - t;  // the rim's own direction
+          if (A.size[o] % 2 == 0) continue;  // no point at its middle
+          std::array<int, 3> idx{};
+          idx[static_cast<std::size_t>(a)] = sf.fa % 2 ? A.size[a] - 1 : 0;
+          idx[static_cast<std::size_t>(t)] = side ? A.size[t] - 1 : 0;
+          idx[static_cast<std::size_t>(o)] = A.size[o] / 2;
+          std::array<int, 3> extra = idx;
+          extra[static_cast<std::size_t>(a)] = sf.fa % 2 ? A.size[a] - 2 : 1;
+          const int e = static_cast<int>(at(A, extra));
+          if (!std::any_of(A.constraints.begin(), A.constraints.end(), [&](const tmesh::TMesh::Constraint& k) { return k.point == e && k.smooth; })) continue;
+          // The same face point in B, and its parameters there (0, 1/2 or 1: symmetric knots).
+          const int id = A.function_ids[at(A, idx)];
+          const auto it = std::find(B.function_ids.begin(), B.function_ids.end(), id);
+          ASSERT_NE(it, B.function_ids.end());
+          const int k = static_cast<int>(it - B.function_ids.begin());
+          const std::array<int, 3> g{k % B.size[0], (k / B.size[0]) % B.size[1], k / (B.size[0] * B.size[1])};
+          Eigen::Vector3d pa, pb;
+          for (int d = 0; d < 3; ++d) pa[d] = double(idx[static_cast<std::size_t>(d)]) / (A.size[d] - 1), pb[d] = double(g[static_cast<std::size_t>(d)]) / (B.size[d] - 1);
+          auto jump_at = [&](const std::vector<tmesh::TMesh>& ts) {
+            const auto [a1, a2] = face_derivatives(ts[static_cast<std::size_t>(sf.a)], a, sf.fa % 2, 0, pa);
+            const auto [b1, b2] = face_derivatives(ts[static_cast<std::size_t>(sf.b)], ab, sf.fb % 2, 0, pb);
+            return std::max((a1 + b1).norm(), (a2 - b2).norm()) / (a1.norm() + a2.norm());
+          };
+          ++rims;
+          worst_before = std::max(worst_before, jump_at(start));
+          worst_after = std::max(worst_after, jump_at(up));
+        }
+    }
+    std::printf("%s: %d lines (%d in the surface) against %d without the surface layer; %d rims C2 at their middle: jump %.3g before, %.3g after\n",
+                c.name, ru.lines, ru.surface_lines, ri.lines, rims, worst_before, worst_after);
+    EXPECT_GT(ru.lines, ri.lines) << c.name;
+    EXPECT_EQ(ri.surface_lines, 0) << c.name;
+    EXPECT_GT(ru.surface_lines, 0) << c.name;
+    EXPECT_GT(rims, 0) << c.name;
+    EXPECT_LT(worst_after, 1e-8) << c.name;
+    EXPECT_GT(worst_before, 1e-6) << c.name << ": C2 before, the check proves nothing";
+    // surface_move_max: a fifth of the largest surface move of the unbounded run.
+    double largest = 0;
+    auto surface_moves = [&](const std::vector<tmesh::TMesh>& ts, double* most) {
+      for (std::size_t b = 0; b < ts.size(); ++b) {
+        const tmesh::TMesh& t = start[b];
+        for (std::size_t i = 0; i < t.control_points.size(); ++i) {
+          const int q = static_cast<int>(i);
+          const std::array<int, 3> g{q % t.size[0], (q / t.size[0]) % t.size[1], q / (t.size[0] * t.size[1])};
+          bool on = false;
+          for (int d = 0; d < 3; ++d)
+            on = on || (t.boundary[static_cast<std::size_t>(2 * d)] && g[static_cast<std::size_t>(d)] == 0) ||
+                 (t.boundary[static_cast<std::size_t>(2 * d + 1)] && g[static_cast<std::size_t>(d)] == t.size[d] - 1);
+          if (!on) continue;
+          const auto& x = ts[b].control_points[i];
+          const auto& y = t.control_points[i];
+          *most = std::max(*most, std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]));
+        }
+      }
+    };
+    surface_moves(up, &largest);
+    ASSERT_GT(largest, 0) << c.name;
+    std::vector<tmesh::TMesh> bounded = start;
+    p.surface_move_max = 0.2 * largest;
+    const tmesh::ContinuityResult rb = tmesh::raise_continuity(bounded, p);
+    double most = 0;
+    surface_moves(bounded, &most);
+    EXPECT_LE(most, p.surface_move_max + 1e-12) << c.name;
+    EXPECT_LT(rb.surface_lines, ru.surface_lines) << c.name;
+    EXPECT_GT(rb.lines_kept, 0) << c.name;
+  }
 }
