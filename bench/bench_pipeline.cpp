@@ -107,6 +107,10 @@ const std::vector<Model>& all_models() {
       {"rod-c2", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {continuity: c2}"},
       {"assembly-c2", "assembly", "", 24, &kAssembly, 0.27, "tmesh: {continuity: c2}"},
       {"rod-layers-c2", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {pillow_splits: 3, stop_at: 0.42, continuity: c2}"},
+      // Sharp curves along block faces' rims on the surface keep C0 (their surface points would move more).
+      {"mechanical08-c2", "", "loopycuts_mechanical08_rem.obj", 24, nullptr, -2, "tmesh: {continuity: c2}"},
+      {"cube-with-hole-c2", "cube-with-hole", "", 24, nullptr, -2, "tmesh: {continuity: c2}"},
+      {"plate-c2", "plate", "", 24, nullptr, -2, "tmesh: {continuity: c2}"},
       {"tube", "", "vhacd_tube1.off", 24, nullptr},
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},
