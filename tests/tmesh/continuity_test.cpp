@@ -164,6 +164,19 @@ double off_rows(const std::vector<tmesh::TMesh>& ts) {
   return off;
 }
 
+// The net `start` raised with `params`, and what raise_continuity did.
+std::pair<std::vector<tmesh::TMesh>, tmesh::ContinuityResult> raised(const std::vector<tmesh::TMesh>& start, const tmesh::ContinuityParams& params = {}) {
+  std::vector<tmesh::TMesh> ts = start;
+  const tmesh::ContinuityResult r = tmesh::raise_continuity(ts, params);
+  return {std::move(ts), r};
+}
+
+// The grid index of block t's control point i.
+std::array<int, 3> grid_of(const tmesh::TMesh& t, std::size_t i) {
+  const int k = static_cast<int>(i);
+  return {k % t.size[0], (k / t.size[0]) % t.size[1], k / (t.size[0] * t.size[1])};
+}
+
 }  // namespace
 
 TEST(Continuity, MergedFacesAreC2AcrossTheirCentre) {
@@ -426,11 +439,10 @@ TEST(Continuity, LinesThatWouldMoveTooFarKeepC0) {
   int bounded_cases = 0;  // where the bound keeps some line C0 (the ring of 4 is nearly C2 already)
   for (const Case& c : family()) {
     const std::vector<tmesh::TMesh> start = c.make();
-    std::vector<tmesh::TMesh> all = start, bounded = start;
-    const tmesh::ContinuityResult ra = tmesh::raise_continuity(all);
     tmesh::ContinuityParams p;
     p.max_move_rel = kBound;
-    const tmesh::ContinuityResult rb = tmesh::raise_continuity(bounded, p);
+    const auto [all, ra] = raised(start);
+    const auto [bounded, rb] = raised(start, p);
     std::printf("%s: %d of %d lines moved by at most %g of their nearest neighbour's distance\n", c.name, rb.lines, ra.lines, kBound);
     EXPECT_EQ(rb.lines + rb.lines_kept, ra.lines) << c.name;
     bounded_cases += rb.lines_kept > 0 ? 1 : 0;
@@ -442,8 +454,7 @@ TEST(Continuity, LinesThatWouldMoveTooFarKeepC0) {
         const Eigen::Vector3d x0(t.control_points[i][0], t.control_points[i][1], t.control_points[i][2]);
         const Eigen::Vector3d x(bounded[b].control_points[i][0], bounded[b].control_points[i][1], bounded[b].control_points[i][2]);
         if ((x - x0).norm() == 0) continue;
-        const int k = static_cast<int>(i);
-        const std::array<int, 3> g{k % t.size[0], (k / t.size[0]) % t.size[1], k / (t.size[0] * t.size[1])};
+        const std::array<int, 3> g = grid_of(t, i);
         double reach = std::numeric_limits<double>::infinity();
         for (int a = 0; a < 3; ++a)
           for (const int step : {-1, 1}) {
@@ -469,11 +480,10 @@ TEST(Continuity, LinesThatWouldMoveTooFarKeepC0) {
 TEST(Continuity, TheSurfaceLayerIsC2AcrossFacesUpToTheSurface) {
   for (const Case& c : family()) {
     const std::vector<tmesh::TMesh> start = c.make();
-    std::vector<tmesh::TMesh> inner = start, up = start;
-    const tmesh::ContinuityResult ri = tmesh::raise_continuity(inner);
     tmesh::ContinuityParams p;
     p.surface_layer = true;
-    const tmesh::ContinuityResult ru = tmesh::raise_continuity(up, p);
+    const auto [inner, ri] = raised(start);
+    const auto [up, ru] = raised(start, p);
     // The middle of every rim on the surface of a merged face, in both blocks' parameters.
     int rims = 0;
     double worst_before = 0, worst_after = 0;
@@ -498,8 +508,7 @@ TEST(Continuity, TheSurfaceLayerIsC2AcrossFacesUpToTheSurface) {
           const int id = A.function_ids[at(A, idx)];
           const auto it = std::find(B.function_ids.begin(), B.function_ids.end(), id);
           ASSERT_NE(it, B.function_ids.end());
-          const int k = static_cast<int>(it - B.function_ids.begin());
-          const std::array<int, 3> g{k % B.size[0], (k / B.size[0]) % B.size[1], k / (B.size[0] * B.size[1])};
+          const std::array<int, 3> g = grid_of(B, static_cast<std::size_t>(it - B.function_ids.begin()));
           Eigen::Vector3d pa, pb;
           for (int d = 0; d < 3; ++d) pa[d] = double(idx[static_cast<std::size_t>(d)]) / (A.size[d] - 1), pb[d] = double(g[static_cast<std::size_t>(d)]) / (B.size[d] - 1);
           auto jump_at = [&](const std::vector<tmesh::TMesh>& ts) {
@@ -526,8 +535,7 @@ TEST(Continuity, TheSurfaceLayerIsC2AcrossFacesUpToTheSurface) {
       for (std::size_t b = 0; b < ts.size(); ++b) {
         const tmesh::TMesh& t = start[b];
         for (std::size_t i = 0; i < t.control_points.size(); ++i) {
-          const int q = static_cast<int>(i);
-          const std::array<int, 3> g{q % t.size[0], (q / t.size[0]) % t.size[1], q / (t.size[0] * t.size[1])};
+          const std::array<int, 3> g = grid_of(t, i);
           bool on = false;
           for (int d = 0; d < 3; ++d)
             on = on || (t.boundary[static_cast<std::size_t>(2 * d)] && g[static_cast<std::size_t>(d)] == 0) ||
@@ -541,9 +549,8 @@ TEST(Continuity, TheSurfaceLayerIsC2AcrossFacesUpToTheSurface) {
     };
     surface_moves(up, &largest);
     ASSERT_GT(largest, 0) << c.name;
-    std::vector<tmesh::TMesh> bounded = start;
     p.surface_move_max = 0.2 * largest;
-    const tmesh::ContinuityResult rb = tmesh::raise_continuity(bounded, p);
+    const auto [bounded, rb] = raised(start, p);
     double most = 0;
     surface_moves(bounded, &most);
     EXPECT_LE(most, p.surface_move_max + 1e-12) << c.name;
