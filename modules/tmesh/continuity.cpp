@@ -203,10 +203,10 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
     if (it == rows_of.end()) it = rows_of.emplace(key, unit ? line_rows(nA, nB) : line_rows_on(ka, la, kb, la + lb)).first;
     const std::size_t face_first = lines.size();
     // Rims on the surface (surface_layer): no other face shares them, so no margin.
-    auto lo = [&](int axis) { return params.surface_layer && A.boundary[static_cast<std::size_t>(2 * axis)] ? 0 : params.margin; };
-    auto hi = [&](int axis) { return params.surface_layer && A.boundary[static_cast<std::size_t>(2 * axis + 1)] ? 0 : params.margin; };
-    for (int j = lo(w); j < A.size[w] - hi(w); ++j)
-      for (int i = lo(u); i < A.size[u] - hi(u); ++i) {
+    auto rim_low = [&](int axis) { return params.surface_layer && A.boundary[static_cast<std::size_t>(2 * axis)] ? 0 : params.margin; };
+    auto rim_high = [&](int axis) { return params.surface_layer && A.boundary[static_cast<std::size_t>(2 * axis + 1)] ? 0 : params.margin; };
+    for (int j = rim_low(w); j < A.size[w] - rim_high(w); ++j)
+      for (int i = rim_low(u); i < A.size[u] - rim_high(u); ++i) {
         auto in_a = [&](int d) {
           std::array<int, 3> idx{};
           idx[static_cast<std::size_t>(a)] = fa % 2 ? A.size[a] - 1 - d : d, idx[static_cast<std::size_t>(u)] = i, idx[static_cast<std::size_t>(w)] = j;
