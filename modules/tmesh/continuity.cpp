@@ -130,6 +130,8 @@ std::vector<SharedFace> shared_faces(const std::vector<TMesh>& blocks) {
 
 ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityParams& params) {
   if (params.margin < 2 || params.margin > 100) throw core::ConfigError("raise_continuity: margin must be in [2, 100]");
+  if (!(params.max_move_rel >= 0) || !(params.surface_move_max >= 0))
+    throw core::ConfigError("raise_continuity: max_move_rel and surface_move_max must be >= 0 (infinity: no bound)");
   ContinuityResult r;
   int nodes = 0;
   for (std::size_t b = 0; b < blocks.size(); ++b) {

@@ -82,7 +82,8 @@ std::vector<SharedFace> shared_faces(const std::vector<TMesh>& blocks);
 /// Adds the smooth rows to `blocks` (TMesh::constraints, `smooth` true) and moves each constrained
 /// control point onto its row (the spline near the face changes: it is projected onto the C2
 /// splines along each line). Blocks need function_ids; degree 3 only.
-/// Throws core::ConfigError for another degree or margin out of range, core::InvalidInputError
+/// Throws core::ConfigError for another degree, margin out of range or a negative (or NaN)
+/// max_move_rel or surface_move_max, core::InvalidInputError
 /// for blocks without function_ids or `lengths` not one positive triple per block.
 ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityParams& params = {});
 

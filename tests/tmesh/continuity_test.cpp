@@ -385,6 +385,14 @@ TEST(Continuity, BadInputIsRefused) {
   tmesh::ContinuityParams p;
   p.margin = 1;
   EXPECT_THROW(tmesh::raise_continuity(ts, p), core::ConfigError);
+  for (const double bad : {-0.1, std::nan("")}) {
+    tmesh::ContinuityParams m;
+    m.max_move_rel = bad;
+    EXPECT_THROW(tmesh::raise_continuity(ts, m), core::ConfigError);
+    tmesh::ContinuityParams s;
+    s.surface_move_max = bad;
+    EXPECT_THROW(tmesh::raise_continuity(ts, s), core::ConfigError);
+  }
   std::vector<tmesh::TMesh> no_ids = ts;
   no_ids[0].function_ids.clear();
   EXPECT_THROW(tmesh::raise_continuity(no_ids), core::InvalidInputError);
