@@ -179,7 +179,7 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
   // Every element's operator and checks in parallel; the first failing element (in element
   // order) is reported, as a serial loop would.
   std::vector<ExtractionElement> elements(keep_operators ? hexes.size() : 0);
-  std::vector<double> pous(hexes.size(), 0.0);
+  std::vector<double> pous(hexes.size(), 0.0), mins(hexes.size(), 0.0);
   std::vector<std::string> errors(hexes.size());
   core::parallel_for(hexes.size(), [&](std::size_t e) {
     const auto& [b, span] = spans_of[e];
@@ -317,6 +317,7 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
       }
     const double pou = (sums.array() - 1.0).abs().maxCoeff();
     pous[e] = pou;
+    for (Eigen::Index k = 0; k < el.op.nonZeros(); ++k) mins[e] = std::min(mins[e], el.op.valuePtr()[k]);
     if (!(pou <= 1e-12)) {
       char msg[64];
       std::snprintf(msg, sizeof msg, "%.1e, allowed 1e-12)", pou);
@@ -336,6 +337,7 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
   for (std::size_t e = 0; e < hexes.size(); ++e) {
     if (!errors[e].empty()) throw core::NumericalError(errors[e]);
     g.partition_of_unity_error = std::max(g.partition_of_unity_error, pous[e]);
+    g.min_coefficient = std::min(g.min_coefficient, mins[e]);
   }
   g.elements = std::move(elements);
 
@@ -386,6 +388,10 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
     char pou[32];
     std::snprintf(pou, sizeof pou, "%.1e", r.basis.partition_of_unity_error);
     core::log(std::to_string(r.basis.points.size()) + " global functions, partition of unity within " + pou);
+    if (r.basis.min_coefficient < 0)
+      core::log_warning("some global functions have negative Bernstein coefficients (down to " + std::to_string(r.basis.min_coefficient) +
+                        "; tmesh.continuity c2's smooth rows): they sum to one but are not B-splines, so masses lumped by row sums "
+                        "can be negative on some elements");
   }
   const int gp = params.gauss_points > 0 ? params.gauss_points : r.degree + 1;
   auto located = [&](const quality::WorstSample& w) {
@@ -468,6 +474,7 @@ core::Json report_figures(const Result& r) {
                     {"undecided", r.undecided},            {"certified_min_detj_rel", r.certified_min_detj_rel},
                     {"global_functions", r.basis.points.size()},
                     {"partition_of_unity_error", r.basis.partition_of_unity_error},
+                    {"min_extraction_coefficient", r.basis.min_coefficient},
                     {"frac_scaled_jacobian_above_0_5", frac_above(r.min_scaled_jacobian, 0.5)},
                     {"volume_frac_scaled_jacobian_above_0_5", r.volume_frac_scaled_jacobian_above_0_5}};
 }

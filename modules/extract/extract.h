@@ -61,6 +61,10 @@ struct GlobalBasis {
   std::vector<double> weights;              ///< weight of each global function (1 today: rational with unit weights)
   std::vector<ExtractionElement> elements;  ///< same order as the Bézier hexes; empty unless kept (global_basis)
   double partition_of_unity_error = 0;      ///< max over columns of C of |column sum - 1|
+  /// The smallest entry of the extraction operators: >= 0 where the global functions are
+  /// B-splines (c0, T-junctions); below 0 with tmesh.continuity c2's smooth rows, whose functions
+  /// are not (docs/formats.md). Solvers lumping the mass matrix by row sums want >= 0.
+  double min_coefficient = 0;
 };
 
 struct Result {

@@ -239,6 +239,9 @@ TEST(Continuity, RowsSumToOneNameFreeNodesAndKeepAPartitionOfUnity) {
     std::printf("%s: %zu -> %zu global functions, partition of unity within %.1e\n", c.name, g0.points.size(), g.points.size(), g.partition_of_unity_error);
     EXPECT_EQ(g.points.size() + static_cast<std::size_t>(r.constrained), g0.points.size());
     EXPECT_LT(g.partition_of_unity_error, 1e-12);
+    // The clamped blocks' functions are B-splines; the smooth rows' are not (negative weights).
+    EXPECT_GE(g0.min_coefficient, 0.0) << c.name;
+    EXPECT_LT(g.min_coefficient, 0.0) << c.name;
   }
 }
 
