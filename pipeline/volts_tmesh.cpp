@@ -294,6 +294,13 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
                       {"not_certified_valid_after", tr.invalid_after}};
     }
   }
+  // The smooth rows in the C2 spline's B-spline basis (same spline, non-negative functions; after
+  // every optimization: the optimizer moves block points and their rows' nodes, not free nodes).
+  if (params.continuity == "c2") {
+    const int lines = tmesh::smooth_rows_as_bsplines(ts);
+    core::log(std::to_string(lines) + " of " + std::to_string(continuity.value("lines", 0)) + " C2 lines written in the B-spline basis (a free node each)");
+    continuity["bspline_lines"] = lines;
+  }
   {
     core::LogSection s("write");
     std::vector<std::pair<std::string, std::vector<double>>> extra;

@@ -87,11 +87,13 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
   GlobalBasis g;
   int nodes = 0;
   Eigen::AlignedBox3d box;
-  for (std::size_t b = 0; b < ts.size(); ++b)
+  for (std::size_t b = 0; b < ts.size(); ++b) {
     for (std::size_t i = 0; i < ids[b].size(); ++i) {
       nodes = std::max(nodes, ids[b][i] + 1);
       box.extend(Eigen::Vector3d(ts[b].control_points[i][0], ts[b].control_points[i][1], ts[b].control_points[i][2]));
     }
+    for (const auto& f : ts[b].free_nodes) nodes = std::max(nodes, f.id + 1);  // no block's point (continuity.h)
+  }
   const double diagonal = box.isEmpty() ? 0.0 : box.diagonal().norm();
   const double tol = point_tolerance(box, 1e-12);
   // T-junctions (TMesh::constraints) carry no function: their rows name the nodes that do.
@@ -133,6 +135,16 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
       } else if ((node_point[static_cast<std::size_t>(id)] - p).norm() > tol) {
         throw core::InvalidInputError("extract: function " + std::to_string(id) + " has different control points in blocks " +
                                       std::to_string(owner[id]) + " and " + std::to_string(b));
+      }
+    }
+  for (std::size_t b = 0; b < ts.size(); ++b)
+    for (const auto& f : ts[b].free_nodes) {
+      const Eigen::Vector3d p(f.point[0], f.point[1], f.point[2]);
+      if (owner[f.id] < 0) {
+        owner[f.id] = static_cast<int>(b), node_point[static_cast<std::size_t>(f.id)] = p;
+      } else if ((node_point[static_cast<std::size_t>(f.id)] - p).norm() > tol) {
+        throw core::InvalidInputError("extract: free node " + std::to_string(f.id) + " has different points in blocks " + std::to_string(owner[f.id]) + " and " +
+                                      std::to_string(b) + " (or is a block's control point elsewhere)");
       }
     }
   for (int id = 0; id < nodes; ++id) {

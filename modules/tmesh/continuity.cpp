@@ -345,4 +345,91 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
   return r;
 }
 
+int smooth_rows_as_bsplines(std::vector<TMesh>& blocks) {
+  int nodes = 0;
+  for (const TMesh& t : blocks) {
+    for (const int id : t.function_ids) nodes = std::max(nodes, id + 1);
+    for (const auto& f : t.free_nodes) nodes = std::max(nodes, f.id + 1);
+  }
+  std::vector<std::vector<std::pair<int, std::size_t>>> where(static_cast<std::size_t>(nodes));
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (std::size_t i = 0; i < blocks[b].function_ids.size(); ++i) where[static_cast<std::size_t>(blocks[b].function_ids[i])].push_back({static_cast<int>(b), i});
+  auto position = [&](int id) { return blocks[static_cast<std::size_t>(where[static_cast<std::size_t>(id)].at(0).first)].control_points[where[static_cast<std::size_t>(id)][0].second]; };
+  auto holds = [&](int b, int id) {
+    for (const auto& [blk, at] : where[static_cast<std::size_t>(id)])
+      if (blk == b) return true;
+    return false;
+  };
+  // The smooth rows by their three ids (TA, F, TB): the extra on A's side (its block holds TA)
+  // and on B's, each with its weights.
+  struct Side {
+    int extra = -1;
+    std::array<double, 3> w{};
+  };
+  std::map<std::array<int, 3>, std::array<Side, 2>> lines;
+  std::set<int> constrained;
+  std::map<int, std::set<int>> named_by;  // node -> the constrained points whose rows name it
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (const auto& k : blocks[b].constraints) {
+      constrained.insert(blocks[b].function_ids[static_cast<std::size_t>(k.point)]);
+      for (const int m : k.ids) named_by[m].insert(blocks[b].function_ids[static_cast<std::size_t>(k.point)]);
+      if (!k.smooth || k.ids.size() != 3) continue;
+      const std::array<int, 3> key{k.ids[0], k.ids[1], k.ids[2]};
+      const int side = holds(static_cast<int>(b), key[0]) ? 0 : 1;
+      lines[key][static_cast<std::size_t>(side)] = {blocks[b].function_ids[static_cast<std::size_t>(k.point)], {k.weights[0], k.weights[1], k.weights[2]}};
+    }
+  // The rows of every point by id, then written into each block that holds the point.
+  std::map<int, std::pair<std::vector<int>, std::vector<double>>> rows;
+  std::map<int, std::set<int>> free_of_block;  // block -> free node ids its rows name
+  std::map<int, Vec3> free_point;
+  int rewritten = 0;
+  constexpr double kTol = 1e-9;
+  auto unit = [](double x) { return x >= -kTol && x <= 1 + kTol; };
+  for (const auto& [key, sides] : lines) {
+    const auto& [ta, f, tb] = key;
+    // F becomes a row: no other row may name it, and it must be free.
+    if (sides[0].extra < 0 || sides[1].extra < 0 || constrained.count(f) || named_by[f] != std::set<int>{sides[0].extra, sides[1].extra}) continue;
+    const auto& w = sides[0].w;  // XA = w0 TA + w1 F + w2 TB
+    const auto& u = sides[1].w;  // XB = u0 TA + u1 F + u2 TB
+    if (std::abs(w[1]) < kTol || std::abs(u[1]) < kTol) continue;
+    const double b = -u[0] / u[1], d = -w[2] / w[1], c = 1 - b - d;
+    const double a = w[0] + w[1] * b, e = u[2] + u[1] * d;
+    if (!(unit(a) && unit(b) && unit(c) && unit(d) && unit(e)) || std::abs((1 - a) - w[1] * c) > kTol || std::abs((1 - e) - u[1] * c) > kTol || !(1 - a > kTol))
+      continue;
+    const int v = nodes++;
+    const Vec3 xa = position(sides[0].extra), pa = position(ta);
+    Vec3 pv{};
+    for (int k = 0; k < 3; ++k) pv[static_cast<std::size_t>(k)] = (xa[static_cast<std::size_t>(k)] - a * pa[static_cast<std::size_t>(k)]) / (1 - a);
+    free_point[v] = pv;
+    rows[sides[0].extra] = {{ta, v}, {a, 1 - a}};
+    rows[f] = {{ta, v, tb}, {b, c, d}};
+    rows[sides[1].extra] = {{v, tb}, {1 - e, e}};
+    for (const int id : {sides[0].extra, f, sides[1].extra})
+      for (const auto& [blk, at] : where[static_cast<std::size_t>(id)]) free_of_block[blk].insert(v);
+    ++rewritten;
+  }
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    TMesh& t = blocks[b];
+    bool changed = false;
+    for (auto& k : t.constraints) {
+      const auto it = rows.find(t.function_ids[static_cast<std::size_t>(k.point)]);
+      if (it == rows.end()) continue;
+      k.ids = it->second.first, k.weights = it->second.second, changed = true;
+    }
+    for (std::size_t i = 0; i < t.function_ids.size(); ++i) {  // face points: new rows
+      const auto it = rows.find(t.function_ids[i]);
+      if (it == rows.end() || std::any_of(t.constraints.begin(), t.constraints.end(), [&](const TMesh::Constraint& k) { return k.point == static_cast<int>(i); })) continue;
+      TMesh::Constraint k;
+      k.point = static_cast<int>(i), k.ids = it->second.first, k.weights = it->second.second, k.smooth = true;
+      t.constraints.push_back(std::move(k));
+      changed = true;
+    }
+    if (!changed) continue;
+    std::sort(t.constraints.begin(), t.constraints.end(), [](const TMesh::Constraint& x, const TMesh::Constraint& y) { return x.point < y.point; });
+    for (const int v : free_of_block[static_cast<int>(b)]) t.free_nodes.push_back({v, free_point[v]});
+    std::sort(t.free_nodes.begin(), t.free_nodes.end(), [](const TMesh::FreeNode& x, const TMesh::FreeNode& y) { return x.id < y.id; });
+  }
+  return rewritten;
+}
+
 }  // namespace volts::tmesh

@@ -87,4 +87,16 @@ std::vector<SharedFace> shared_faces(const std::vector<TMesh>& blocks);
 /// for blocks without function_ids or `lengths` not one positive triple per block.
 ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityParams& params = {});
 
+/// Writes the smooth rows in the B-spline basis of the C2 spline. Per line across a face made C2,
+/// the knot removal's rows give the two extras in terms of the points two in on either side (TA,
+/// TB) and the face point F — as functions, combinations of the C2 spline's B-splines with
+/// negative weights. Here the extras and F become rows of TA, TB and a new node V (a free node,
+/// TMesh::free_nodes; its function is the B-spline centred on the face): XA = a TA + (1-a) V,
+/// F = b TA + c V + d TB, XB = (1-e) V + e TB, all weights in [0, 1] (unit intervals: 1/3, 2/3;
+/// 1/6, 2/3, 1/6), derived from the stored rows alone (no knots needed). Every block control
+/// point stays where it is (the same spline); the global functions become non-negative. A line
+/// whose rows are not of that form (a weight outside [0, 1] to 1e-9, its face point named by
+/// another row) keeps its rows. Returns the lines rewritten.
+int smooth_rows_as_bsplines(std::vector<TMesh>& blocks);
+
 }  // namespace volts::tmesh

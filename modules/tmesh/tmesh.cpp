@@ -1134,7 +1134,7 @@ core::Json to_json(const TMesh& t) {
   std::vector<double> cp, par;
   for (const auto& p : t.control_points) cp.insert(cp.end(), p.begin(), p.end());
   for (const auto& p : t.parameters) par.insert(par.end(), p.begin(), p.end());
-  return core::Json{{"level", t.level}, {"degree", t.degree}, {"knots", t.knots}, {"size", t.size},
+  core::Json j{{"level", t.level}, {"degree", t.degree}, {"knots", t.knots}, {"size", t.size},
                     {"control_points", cp}, {"parameters", par}, {"boundary", t.boundary}, {"component", t.component},
                     {"corners", t.corners}, {"kind", t.kind}, {"function_ids", t.function_ids}, {"constraints", [&] {
                       core::Json c = core::Json::array();
@@ -1144,6 +1144,12 @@ core::Json to_json(const TMesh& t) {
                       }
                       return c;
                     }()}};
+  if (!t.free_nodes.empty()) {
+    core::Json f = core::Json::array();
+    for (const auto& n : t.free_nodes) f.push_back({n.id, n.point[0], n.point[1], n.point[2]});
+    j["free_nodes"] = f;
+  }
+  return j;
 }
 
 TMesh from_json(const core::Json& j, const std::string& file) {
@@ -1211,6 +1217,17 @@ TMesh from_json(const core::Json& j, const std::string& file) {
         if (!(std::abs(sum - 1) <= 1e-9))
           throw core::InvalidInputError(file + ": tmesh constraint of point " + std::to_string(c.point) + " has weights summing to " + std::to_string(sum) + ", not 1");
         t.constraints.push_back(std::move(c));
+      }
+    if (j.contains("free_nodes"))
+      for (const auto& f : j["free_nodes"]) {
+        if (!f.is_array() || f.size() != 4) throw core::InvalidInputError(file + ": tmesh free node is not [id, x, y, z]");
+        TMesh::FreeNode node;
+        node.id = f[0].get<int>();
+        node.point = {f[1].get<double>(), f[2].get<double>(), f[3].get<double>()};
+        if (node.id < 0 || !std::isfinite(node.point[0]) || !std::isfinite(node.point[1]) || !std::isfinite(node.point[2]) ||
+            (!t.free_nodes.empty() && node.id <= t.free_nodes.back().id))
+          throw core::InvalidInputError(file + ": tmesh free node " + std::to_string(node.id) + " with a negative id, out of order or not finite");
+        t.free_nodes.push_back(node);
       }
     for (std::size_t i = 0; i < n; ++i) {
       t.control_points.push_back({cp[3 * i], cp[3 * i + 1], cp[3 * i + 2]});
@@ -1465,8 +1482,11 @@ core::Json report_figures(const std::vector<TMesh>& ts, double before, double af
   const NodeCounts nc = count_nodes(ts);
   std::size_t control_points = 0;
   int elements = 0, level = 0, min_level = ts.empty() ? 0 : ts.front().level;
-  std::set<int> cubes;
+  std::set<int> cubes, constrained, free_nodes;  // functions: the nodes without a row, and the free nodes
   for (const auto& t : ts) {
+    for (const auto& k : t.constraints)
+      if (!t.function_ids.empty()) constrained.insert(t.function_ids[static_cast<std::size_t>(k.point)]);
+    for (const auto& f : t.free_nodes) free_nodes.insert(f.id);
     control_points += t.control_points.size();
     elements += t.elements();
     level = std::max(level, t.level);
@@ -1474,7 +1494,7 @@ core::Json report_figures(const std::vector<TMesh>& ts, double before, double af
     cubes.insert(t.component);
   }
   return core::Json{{"nodes", nc.nodes},
-                    {"functions", nc.nodes - nc.t_junctions},
+                    {"functions", nc.nodes - static_cast<int>(constrained.size()) + static_cast<int>(free_nodes.size())},
                     {"t_junctions", nc.t_junctions},
                     {"level_interface_nodes", nc.level_interface},
                     {"min_level", min_level},

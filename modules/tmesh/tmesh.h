@@ -168,6 +168,14 @@ struct TMesh {
     bool smooth = false;
   };
   std::vector<Constraint> constraints;  ///< ascending `point`; empty without T-junctions
+  /// Nodes that this block's constraint rows name and no block holds as a control point: the
+  /// B-splines centred on the faces made C2 across (continuity.h, smooth_rows_as_bsplines), each
+  /// its id and control point (the same in every block that names it).
+  struct FreeNode {
+    int id = 0;
+    Vec3 point{};
+  };
+  std::vector<FreeNode> free_nodes;  ///< ascending id; empty but with tmesh.continuity c2
   int elements() const;  ///< product of the knot spans in the three directions
 };
 

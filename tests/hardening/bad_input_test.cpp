@@ -319,6 +319,17 @@ std::vector<BadInput> catalogue() {
                    t["constraints"] = core::Json::array({{{"point", 0}, {"ids", {t["function_ids"][1]}}, {"weights", {1.0}}, {"smooth", "yes"}}});
                  },
                  "tmesh constraint key \"smooth\" is not a boolean"),
+      // A C2 face's free node (session 50) that is not [id, x, y, z], and one whose point differs
+      // between the blocks that name it.
+      stage_json("TmeshFreeNodeMalformed", "tmesh", "volts-extract",
+                 [](core::Json& j) { j["tmeshes"][0]["free_nodes"] = core::Json::array({core::Json::array({7, 0.5})}); },
+                 "tmesh free node is not [id, x, y, z]"),
+      stage_json("TmeshFreeNodeOnABlockPoint", "tmesh", "volts-extract",
+                 [](core::Json& j) {
+                   auto& t = j["tmeshes"][0];
+                   t["free_nodes"] = core::Json::array({core::Json::array({t["function_ids"][0], 1e3, 1e3, 1e3})});
+                 },
+                 "or is a block's control point elsewhere"),
       stage_json("TmeshUnknownBlockKind", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][0]["kind"] = "wedge"; },
                  "unknown tmesh block kind 'wedge'"),
       stage_json("TmeshBlockCornerOutsideCube", "tmesh", "volts-extract", [](core::Json& j) { j["tmeshes"][1]["corners"][7][0] = 1.6; },

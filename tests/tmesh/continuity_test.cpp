@@ -569,3 +569,42 @@ TEST(Continuity, TheSurfaceLayerIsC2AcrossFacesUpToTheSurface) {
     EXPECT_GT(rb.lines_kept, 0) << c.name;
   }
 }
+
+// smooth_rows_as_bsplines: the same spline (no block point moves, so the Bézier elements are the
+// same) in the C2 spline's B-spline basis: every line rewritten, one free node per line, as many
+// global functions as with the knot removal's rows, a partition of unity, every function's
+// Bézier pieces reproducing the hexes (global_basis checks it), and no negative Bernstein
+// coefficient where the knot removal's rows had some. The rows read back from the stage file.
+TEST(Continuity, SmoothRowsAsBSplinesGiveANonNegativeBasisOfTheSameSpline) {
+  for (const Case& c : family()) {
+    tmesh::ContinuityParams p;
+    p.surface_layer = true;
+    auto [ts, r] = raised(c.make(), p);
+    auto basis = [](const std::vector<tmesh::TMesh>& net) {
+      std::vector<bezier::BezierHex> hexes;
+      for (const auto& t : net) {
+        const auto e = bezier::extract_bezier_hexes(test::volume(t));
+        hexes.insert(hexes.end(), e.begin(), e.end());
+      }
+      return extract::global_basis(net, hexes, false);
+    };
+    const extract::GlobalBasis before = basis(ts);
+    const std::vector<tmesh::TMesh> removal = ts;
+    const int lines = tmesh::smooth_rows_as_bsplines(ts);
+    const extract::GlobalBasis after = basis(ts);
+    std::size_t free_nodes = 0;
+    for (const auto& t : ts) free_nodes += t.free_nodes.size();
+    std::printf("%s: %d of %d lines as B-splines; %zu global functions (%zu before); smallest coefficient %.3g (%.3g before)\n", c.name, lines,
+                r.lines, after.points.size(), before.points.size(), after.min_coefficient, before.min_coefficient);
+    EXPECT_EQ(lines, r.lines) << c.name;
+    EXPECT_GE(free_nodes, static_cast<std::size_t>(lines)) << c.name;  // each in the blocks that name it
+    EXPECT_EQ(after.points.size(), before.points.size()) << c.name;
+    EXPECT_LT(after.partition_of_unity_error, 1e-12) << c.name;
+    EXPECT_LT(before.min_coefficient, 0.0) << c.name;
+    EXPECT_GE(after.min_coefficient, -1e-12) << c.name;
+    for (std::size_t b = 0; b < ts.size(); ++b) EXPECT_EQ(ts[b].control_points, removal[b].control_points) << c.name;
+    std::vector<tmesh::TMesh> read;
+    for (const auto& t : ts) read.push_back(tmesh::from_json(tmesh::to_json(t), "test"));
+    EXPECT_EQ(basis(read).points.size(), after.points.size()) << c.name;
+  }
+}
