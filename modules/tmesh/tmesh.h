@@ -81,7 +81,7 @@ struct Params {
   /// layer) or "c2" (raise_continuity(), continuity.h, on the optimized and h-refined net: C2
   /// across the faces between blocks of one level away from their rims — C0 stays within two
   /// control points of every block edge, the template around irregular nodes — then optimized
-  /// again by volts-tmesh; cubic only).
+  /// again by volts-tmesh and written in the B-spline basis, smooth_rows_as_bsplines; cubic only).
   std::string continuity = "c0";
   /// Surface nodes on sharp curves slide along them too, away from sharp corners
   /// (OptimizeParams::slide_sharp_curves).
