@@ -204,9 +204,20 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
     auto it = rows_of.find(key);
     if (it == rows_of.end()) it = rows_of.emplace(key, unit ? line_rows(nA, nB) : line_rows_on(ka, la, kb, la + lb)).first;
     const std::size_t face_first = lines.size();
-    // Rims on the surface (surface_layer): no other face shares them, so no margin.
-    auto rim_low = [&](int axis) { return params.surface_layer && A.boundary[static_cast<std::size_t>(2 * axis)] ? 0 : params.margin; };
-    auto rim_high = [&](int axis) { return params.surface_layer && A.boundary[static_cast<std::size_t>(2 * axis + 1)] ? 0 : params.margin; };
+    // Rims on the surface (surface_layer) keep no margin where only A and B hold the rim: where a
+    // third block does (a concave edge of the surface, three blocks around it: an irregular
+    // edge), two faces' lines would end on the same face point, so the margin stays.
+    auto open_rim = [&](int axis, int side) {
+      if (!params.surface_layer || !A.boundary[static_cast<std::size_t>(2 * axis + side)]) return false;
+      const int o = 3 - a - axis;  // the rim's own direction
+      std::array<int, 3> idx{};
+      idx[static_cast<std::size_t>(a)] = fa % 2 ? A.size[a] - 1 : 0;
+      idx[static_cast<std::size_t>(axis)] = side ? A.size[axis] - 1 : 0;
+      idx[static_cast<std::size_t>(o)] = A.size[o] / 2;
+      return where[static_cast<std::size_t>(A.function_ids[local_index(A, idx)])].size() == 2;
+    };
+    auto rim_low = [&](int axis) { return open_rim(axis, 0) ? 0 : params.margin; };
+    auto rim_high = [&](int axis) { return open_rim(axis, 1) ? 0 : params.margin; };
     for (int j = rim_low(w); j < A.size[w] - rim_high(w); ++j)
       for (int i = rim_low(u); i < A.size[u] - rim_high(u); ++i) {
         auto in_a = [&](int d) {

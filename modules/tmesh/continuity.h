@@ -49,7 +49,8 @@ struct ContinuityParams {
   /// face point keeps C0 (a thin pillow slab's line projected across it folds its elements).
   /// Infinity: every line.
   double max_move_rel = std::numeric_limits<double>::infinity();
-  /// Rims of a face on the surface keep no margin: the lines up to the surface are made C2 too,
+  /// Rims of a face on the surface keep no margin (where only the face's two blocks hold the rim;
+  /// a third block around it makes it an irregular edge): the lines up to the surface are made C2 too,
   /// the lines in the surface itself moving surface control points (the boundary moves by at
   /// most their largest move: the basis is non-negative and sums to one). false: every rim keeps
   /// `margin` (C0 on the surface across block faces).
