@@ -92,6 +92,15 @@ std::array<int, 3> grid_index(const TMesh& t, std::size_t i) {
   return {k % t.size[0], (k / t.size[0]) % t.size[1], k / (t.size[0] * t.size[1])};
 }
 
+// Per node id below `nodes`: the (block, control point) pairs that hold it.
+using Occurrences = std::vector<std::vector<std::pair<int, std::size_t>>>;
+Occurrences occurrences(const std::vector<TMesh>& blocks, int nodes) {
+  Occurrences where(static_cast<std::size_t>(nodes));
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (std::size_t i = 0; i < blocks[b].function_ids.size(); ++i) where[static_cast<std::size_t>(blocks[b].function_ids[i])].push_back({static_cast<int>(b), i});
+  return where;
+}
+
 // One line across a face: the two extras and the three points their rows name, in that order.
 struct Line {
   int extra_a = 0, extra_b = 0;
@@ -148,9 +157,7 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
       for (const double x : l)
         if (!(x > 0)) throw core::InvalidInputError("raise_continuity: a block length is not positive");
   }
-  std::vector<std::vector<std::pair<int, std::size_t>>> where(static_cast<std::size_t>(nodes));
-  for (std::size_t b = 0; b < blocks.size(); ++b)
-    for (std::size_t i = 0; i < blocks[b].function_ids.size(); ++i) where[static_cast<std::size_t>(blocks[b].function_ids[i])].push_back({static_cast<int>(b), i});
+  const Occurrences where = occurrences(blocks, nodes);
   // Positions of the nodes (any occurrence).
   std::vector<Vec3> position(static_cast<std::size_t>(nodes));
   Eigen::AlignedBox3d box;
@@ -362,9 +369,7 @@ int smooth_rows_as_bsplines(std::vector<TMesh>& blocks) {
     for (const int id : t.function_ids) nodes = std::max(nodes, id + 1);
     for (const auto& f : t.free_nodes) nodes = std::max(nodes, f.id + 1);
   }
-  std::vector<std::vector<std::pair<int, std::size_t>>> where(static_cast<std::size_t>(nodes));
-  for (std::size_t b = 0; b < blocks.size(); ++b)
-    for (std::size_t i = 0; i < blocks[b].function_ids.size(); ++i) where[static_cast<std::size_t>(blocks[b].function_ids[i])].push_back({static_cast<int>(b), i});
+  const Occurrences where = occurrences(blocks, nodes);
   auto position = [&](int id) { return blocks[static_cast<std::size_t>(where[static_cast<std::size_t>(id)].at(0).first)].control_points[where[static_cast<std::size_t>(id)][0].second]; };
   auto holds = [&](int b, int id) {
     for (const auto& [blk, at] : where[static_cast<std::size_t>(id)])
