@@ -100,17 +100,16 @@ const std::vector<Model>& all_models() {
       {"torus-eps", "torus", "", 24, &kTorus, 0.5, "tmesh: {epsilon_rel: 0.001}"},
       {"torus-spans", "torus", "", 24, &kTorus, 0.5, "tmesh: {epsilon_rel: 0.001, refine: spans}"},
       {"eight-spans", "", "cfwen_eight.off", 24, &kEight, 0.4, "tmesh: {epsilon_rel: 0.002, refine: spans}"},
-      // C2 across the faces between blocks (tmesh.continuity c2; on the optimized, h-refined net
-      // since session 50): the figures and the global functions against the defaults' C0.
-      {"torus-c2", "torus", "", 24, &kTorus, 0.5, "tmesh: {continuity: c2}"},
-      {"eight-c2", "", "cfwen_eight.off", 24, &kEight, 0.4, "tmesh: {continuity: c2}"},
-      {"rod-c2", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {continuity: c2}"},
-      {"assembly-c2", "assembly", "", 24, &kAssembly, 0.27, "tmesh: {continuity: c2}"},
-      {"rod-layers-c2", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {pillow_splits: 3, stop_at: 0.42, continuity: c2}"},
-      // Sharp curves along block faces' rims on the surface keep C0 (their surface points would move more).
-      {"mechanical08-c2", "", "loopycuts_mechanical08_rem.obj", 24, nullptr, -2, "tmesh: {continuity: c2}"},
-      {"cube-with-hole-c2", "cube-with-hole", "", 24, nullptr, -2, "tmesh: {continuity: c2}"},
-      {"plate-c2", "plate", "", 24, nullptr, -2, "tmesh: {continuity: c2}"},
+      // C0 across every block face (tmesh.continuity c0; the default until session 51, which made
+      // auto - c2 for cubics - the default): the figures and the global functions against C2's.
+      {"torus-c0", "torus", "", 24, &kTorus, 0.5, "tmesh: {continuity: c0}"},
+      {"eight-c0", "", "cfwen_eight.off", 24, &kEight, 0.4, "tmesh: {continuity: c0}"},
+      {"rod-c0", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {continuity: c0}"},
+      {"assembly-c0", "assembly", "", 24, &kAssembly, 0.27, "tmesh: {continuity: c0}"},
+      {"rod-layers-c0", "", "loopycuts_rod_rem.obj", 24, &kRod, 0.4, "tmesh: {pillow_splits: 3, stop_at: 0.42, continuity: c0}"},
+      {"mechanical08-c0", "", "loopycuts_mechanical08_rem.obj", 24, nullptr, -2, "tmesh: {continuity: c0}"},
+      {"cube-with-hole-c0", "cube-with-hole", "", 24, nullptr, -2, "tmesh: {continuity: c0}"},
+      {"plate-c0", "plate", "", 24, nullptr, -2, "tmesh: {continuity: c0}"},
       {"tube", "", "vhacd_tube1.off", 24, nullptr},
       {"mechanical08", "", "loopycuts_mechanical08_rem.obj", 24, nullptr},
       {"cube-with-hole", "cube-with-hole", "", 24, nullptr},
@@ -596,7 +595,7 @@ int main(int argc, char** argv) {
   std::printf("\n");
   print_markdown(targets);
   std::printf("\nnodes: T-mesh nodes (stages.tmesh.nodes, the paper's column); functions: global basis functions (one fewer per\n"
-              "T-junction and per smooth row of tmesh.continuity c2); irregular s/i: surface/interior irregular nodes; worst/best SJ: sampled\n"
+              "T-junction and per clamped extra of the C2 rows of tmesh.continuity c2, the default for cubics); irregular s/i: surface/interior irregular nodes; worst/best SJ: sampled\n"
               "scaled Jacobian (corners + Gauss points, the paper's sample); worst SJ 7^3: on a uniform 7^3 grid per element, faces\n"
               "and edges included (extract.dense_points: the field between those samples); valid: certified det J > 0;\n"
               "hausdorff_rel: sampled, one-sided; stage times\n"

@@ -205,8 +205,9 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   // optimizer runs again from there, checking between the samples only the elements that moved.
   // On the optimized net before refinement the rows covered a third as many lines (two face
   // points of margin at level 2) and slowed the optimization down (docs/status.md "Session 50").
-  core::Json continuity = {{"mode", params.continuity}};
-  if (params.continuity == "c2") {
+  const std::string continuity_mode = tmesh::continuity_mode(params);
+  core::Json continuity = {{"mode", continuity_mode}};
+  if (continuity_mode == "c2") {
     core::LogSection s("C2 across block faces");
     tmesh::ContinuityParams cp;
     cp.fit_ratio = true;
@@ -296,7 +297,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   }
   // The smooth rows in the C2 spline's B-spline basis (same spline, non-negative functions; after
   // every optimization: the optimizer moves block points and their rows' nodes, not free nodes).
-  if (params.continuity == "c2") {
+  if (continuity_mode == "c2") {
     const int lines = tmesh::smooth_rows_as_bsplines(ts);
     core::log(std::to_string(lines) + " of " + std::to_string(continuity.value("lines", 0)) + " C2 lines written in the B-spline basis (a free node each)");
     continuity["bspline_lines"] = lines;

@@ -250,7 +250,8 @@ Config bind_config(const YAML::Node& root, const std::string& source) {
     s.get("pillow_splits", c.tmesh.pillow_splits, 1, 8);
     if (c.tmesh.pillow_splits > 1 && c.tmesh.pillow_layers == 0)
       throw core::ConfigError(source + ": tmesh.pillow_splits " + std::to_string(c.tmesh.pillow_splits) + " needs a pillow to split (tmesh.pillow_layers is 0)");
-    s.get("continuity", c.tmesh.continuity, {"c0", "c2"});
+    s.get("continuity", c.tmesh.continuity, {"auto", "c0", "c2"});
+    c.tmesh.continuity = tmesh::continuity_mode(c.tmesh);  // the effective config names what ran
     if (c.tmesh.continuity == "c2" && c.tmesh.degree != 3)
       throw core::ConfigError(source + ": tmesh.continuity: c2 is for cubic splines (tmesh.degree 3), got degree " + std::to_string(c.tmesh.degree));
     s.get("refine", c.tmesh.refine, {"boundary", "cube", "spans"});

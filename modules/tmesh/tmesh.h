@@ -78,11 +78,12 @@ struct Params {
   /// and keep the better end (OptimizeParams::fold_retry).
   bool fold_retry = true;
   /// Continuity across the faces between blocks: "c0" (every block face a zero-parametric-length
-  /// layer) or "c2" (raise_continuity(), continuity.h, on the optimized and h-refined net: C2
+  /// layer), "c2" (raise_continuity(), continuity.h, on the optimized and h-refined net: C2
   /// across the faces between blocks of one level away from their rims — C0 stays within two
   /// control points of every block edge, the template around irregular nodes — then optimized
-  /// again by volts-tmesh and written in the B-spline basis, smooth_rows_as_bsplines; cubic only).
-  std::string continuity = "c0";
+  /// again by volts-tmesh and written in the B-spline basis, smooth_rows_as_bsplines; cubic only)
+  /// or "auto": c2 for cubics, c0 otherwise (continuity_mode()).
+  std::string continuity = "auto";
   /// Surface nodes on sharp curves slide along them too, away from sharp corners
   /// (OptimizeParams::slide_sharp_curves).
   bool slide_sharp_curves = false;
@@ -129,6 +130,10 @@ struct Params {
   /// 1 = none. build() ignores it: the optimizer sees the unsplit net.
   int pillow_splits = 1;
 };
+
+/// The continuity Params::continuity asks for: "c0" or "c2" ("auto" is c2 for cubics, whose C2
+/// rows continuity.h writes, and c0 for every other degree).
+inline std::string continuity_mode(const Params& p) { return p.continuity != "auto" ? p.continuity : p.degree == 3 ? "c2" : "c0"; }
 
 using Vec3 = std::array<double, 3>;
 

@@ -190,6 +190,22 @@ TEST(Config, KeysGivenTwiceInOneMapAreErrorsWithTheirLine) {
   EXPECT_EQ(config::parse_config("tmesh: {level: 2}\npolycube: {smooth_sweeps: 3}\ntet2hex: {degree: 2}\n", "t").tmesh.level, 2);
 }
 
+// tmesh.continuity: auto (the default) is c2 for cubics and c0 for every other degree, resolved
+// when read so that the effective config and the report name what ran; c0 stays on request.
+TEST(Config, ContinuityDefaultsToC2ForCubicsOnly) {
+  EXPECT_EQ(config::load_config(std::string(VOLTS_SOURCE_DIR) + "/configs/default.yaml").tmesh.continuity, "c2");
+  EXPECT_EQ(config::parse_config("input: {generate: torus}\n", "t").tmesh.continuity, "c2");
+  EXPECT_EQ(config::parse_config("tmesh: {continuity: auto}\n", "t").tmesh.continuity, "c2");
+  EXPECT_EQ(config::parse_config("tmesh: {degree: 2}\n", "t").tmesh.continuity, "c0");
+  EXPECT_EQ(config::parse_config("tmesh: {degree: 4, continuity: auto}\n", "t").tmesh.continuity, "c0");
+  EXPECT_EQ(config::parse_config("tmesh: {continuity: c0}\n", "t").tmesh.continuity, "c0");
+  const std::string emitted = config::to_yaml(config::parse_config("tmesh: {degree: 2}\n", "t"));
+  EXPECT_NE(emitted.find("continuity: c0"), std::string::npos) << emitted;
+  EXPECT_EQ(config::parse_config(emitted, "emitted").tmesh.continuity, "c0");
+  EXPECT_EQ(tmesh::Params{}.continuity, "auto");
+  EXPECT_EQ(tmesh::continuity_mode(tmesh::Params{}), "c2");
+}
+
 TEST(Config, WrongTypesAndRangesAreErrorsWithTheirPath) {
   EXPECT_NE(config_error("tmesh: {continuity: c1}\n").find("tmesh.continuity"), std::string::npos);
   EXPECT_NE(config_error("tmesh: {continuity: c2, degree: 2}\n").find("tmesh.continuity: c2 is for cubic splines"), std::string::npos);

@@ -41,7 +41,12 @@ TEST_F(Box, ReportHasTheGlobalBasisFigures) {
   const auto& x = s["extract"];
   EXPECT_LT(x["partition_of_unity_error"].get<double>(), 1e-12);
   EXPECT_GE(x["partition_of_unity_error"].get<double>(), 0.0);
-  EXPECT_EQ(x["global_functions"], s["tmesh"]["nodes"]);
+  // tmesh.continuity auto is c2 for cubics: a function fewer per clamped extra of its C2 rows.
+  const auto& t = s["tmesh"];
+  EXPECT_EQ(t["continuity"]["mode"], "c2");
+  EXPECT_GT(t["continuity"]["lines"].get<int>(), 0);
+  EXPECT_EQ(x["global_functions"], t["functions"]);
+  EXPECT_EQ(t["functions"].get<int>(), t["nodes"].get<int>() - t["t_junctions"].get<int>() - t["continuity"]["constrained"].get<int>());
   EXPECT_GT(x["global_functions"].get<int>(), 0);
   const double frac = x["frac_scaled_jacobian_above_0_5"].get<double>();
   EXPECT_GT(frac, 0.5);  // a box: nearly all elements are good

@@ -428,23 +428,27 @@ TEST(Pipeline, WasherRunsEndToEndAsAPlusProfileRing) {
   EXPECT_GT(x["min_scaled_jacobian"].get<double>(), 0.0);
   EXPECT_LT(x["hausdorff_rel"].get<double>(), 0.005);
   EXPECT_LT(x["volume_rel_error"].get<double>(), 0.005);
-  // tmesh.continuity c2, rerun from tmesh: the pillow's concave edges are irregular edges on the
-  // surface (three blocks around each), so the surface rims there keep their margin and every C2
-  // line is written in the B-spline basis (before that rule 164 of 5,957 lines were not — their
-  // face point ended two faces' lines — and extraction coefficients went down to -0.18).
-  test::write_text(d / "c2.yaml", "input: {file: " + std::string(VOLTS_SHARED_MODELS) + "/loopycuts_mechanical08_rem.obj}\ntmesh: {continuity: c2}\nextract: {exports: [vtu]}\n");
-  const test::Outcome r2 = test::run(test::bin("volts") + " run " + (d / "c2.yaml").string() + " --workdir " + (d / "w").string() + " --from tmesh");
-  ASSERT_EQ(r2.code, 0) << r2.output;
-  const core::Json rep2 = core::read_report((d / "w").string());
-  const core::Json& c = rep2["stages"]["tmesh"]["continuity"];
-  const core::Json& x2 = rep2["stages"]["extract"];
+  // tmesh.continuity c2 (the default for cubics): the pillow's concave edges are irregular edges
+  // on the surface (three blocks around each), so the surface rims there keep their margin and
+  // every C2 line is written in the B-spline basis (before that rule 164 of 5,957 lines were not —
+  // their face point ended two faces' lines — and extraction coefficients went down to -0.18).
+  const core::Json& c = rep["stages"]["tmesh"]["continuity"];
+  EXPECT_EQ(c["mode"], "c2");
   EXPECT_GT(c["lines"].get<int>(), 0);
   EXPECT_GT(c["surface_lines"].get<int>(), 0);
   EXPECT_EQ(c["bspline_lines"], c["lines"]);
-  EXPECT_GE(x2["min_extraction_coefficient"].get<double>(), -1e-12);
-  EXPECT_EQ(x2["certified_valid"], x2["bezier_elements"]);
-  EXPECT_LT(x2["hausdorff_rel"].get<double>(), 0.005);
-  EXPECT_LT(x2["global_functions"].get<int>(), x["global_functions"].get<int>());
+  EXPECT_GE(x["min_extraction_coefficient"].get<double>(), -1e-12);
+  // Rerun from tmesh with c0: repeated knots on every block face, more functions, as valid.
+  test::write_text(d / "c0.yaml", "input: {file: " + std::string(VOLTS_SHARED_MODELS) + "/loopycuts_mechanical08_rem.obj}\ntmesh: {continuity: c0}\nextract: {exports: [vtu]}\n");
+  const test::Outcome r0 = test::run(test::bin("volts") + " run " + (d / "c0.yaml").string() + " --workdir " + (d / "w").string() + " --from tmesh");
+  ASSERT_EQ(r0.code, 0) << r0.output;
+  const core::Json rep0 = core::read_report((d / "w").string());
+  const core::Json& x0 = rep0["stages"]["extract"];
+  EXPECT_EQ(rep0["stages"]["tmesh"]["continuity"]["mode"], "c0");
+  EXPECT_EQ(x0["certified_valid"], x0["bezier_elements"]);
+  EXPECT_LT(x0["hausdorff_rel"].get<double>(), 0.005);
+  EXPECT_GT(x0["global_functions"].get<int>(), x["global_functions"].get<int>());
+  EXPECT_EQ(x0["global_functions"], rep0["stages"]["tmesh"]["nodes"]);
 }
 
 TEST(Pipeline, LShapedProfileRingIsPillowedAroundItsConcaveEdge) {
@@ -476,8 +480,9 @@ TEST(Pipeline, PillowSplitsThinTheLayerAlongTheSurfaceWithTheSameSpline) {
   // still certified valid and every export parses. (The layer wrapping a concave edge:
   // tests/tmesh/h_refine_test.cpp.)
   const fs::path d = test::fresh_dir("pipeline", "pillow_splits");
-  test::write_text(d / "one.yaml", "input: {generate: torus, resolution: 24}\nextract: {exports: [vtu]}\n");
-  test::write_text(d / "three.yaml", "input: {generate: torus, resolution: 24}\ntmesh: {pillow_splits: 3}\nextract: {json_operators: kronecker}\n");
+  // c0: with c2 the C2 projection (continuity.h) moves the points of a finer net differently.
+  test::write_text(d / "one.yaml", "input: {generate: torus, resolution: 24}\ntmesh: {continuity: c0}\nextract: {exports: [vtu]}\n");
+  test::write_text(d / "three.yaml", "input: {generate: torus, resolution: 24}\ntmesh: {pillow_splits: 3, continuity: c0}\nextract: {json_operators: kronecker}\n");
   const test::Outcome r1 = test::run(test::bin("volts") + " run " + (d / "one.yaml").string() + " --workdir " + (d / "one").string());
   ASSERT_EQ(r1.code, 0) << r1.output;
   const test::Outcome r3 = run_from_tmesh(d / "one", d / "three", d / "three.yaml");
@@ -695,7 +700,9 @@ TEST(Pipeline, EightRefinesTheCubesFarFromItsSurfaceWithTJunctions) {
   EXPECT_EQ(t["min_level"], 2);
   EXPECT_EQ(t["max_level"], 3);
   EXPECT_GT(t["t_junctions"].get<int>(), 0);
-  EXPECT_EQ(t["functions"].get<int>(), t["nodes"].get<int>() - t["t_junctions"].get<int>());
+  // One function fewer per T-junction and per clamped extra of the C2 rows (tmesh.continuity auto:
+  // c2 on faces between blocks of one level; a line's free node replaces its face point).
+  EXPECT_EQ(t["functions"].get<int>(), t["nodes"].get<int>() - t["t_junctions"].get<int>() - t["continuity"]["constrained"].get<int>());
   EXPECT_GT(t["elements"].get<int>(), flat["elements"].get<int>());
   // The connector's end-face corners (Liu et al. Fig. 11), the eight's irregular surface nodes,
   // are the same with T-junctions around them.
