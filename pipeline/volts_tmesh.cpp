@@ -221,6 +221,8 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
     // keeps C0. Without an input surface (epsilon_rel 0, no sliding) the surface keeps C0.
     cp.surface_layer = true;
     cp.surface_move_max = 0.1 * params.epsilon_rel * diagonal;
+    // Around regular edges (four blocks, 2 x 2) too: C0 stays only around irregular nodes.
+    cp.regular_edges = true;
     // Knot intervals in the units the spline's knots are uniform in: with adaptive spans the
     // optimized net's units (times 2^h_refine once refined); with the pillow layer split further,
     // the uniform refinement's (its knot intervals there 1/pillow_splits of those).
@@ -235,8 +237,9 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
       return tmesh::raise_continuity(ts, cp);
     }();
     core::log(std::to_string(c.faces) + " block faces C2 across (" + std::to_string(c.lines) + " lines of control points, " + std::to_string(c.constrained) +
-              " clamped extras now rows, moved up to " + std::to_string(c.moved_max) + "), " + std::to_string(c.faces_kept) + " kept C0");
-    continuity.update({{"faces", c.faces}, {"lines", c.lines}, {"constrained", c.constrained}, {"faces_kept", c.faces_kept}, {"moved_max", c.moved_max}, {"lines_kept", c.lines_kept}, {"surface_lines", c.surface_lines}});
+              " clamped extras now rows, moved up to " + std::to_string(c.moved_max) + "), " + std::to_string(c.faces_kept) + " kept C0; " +
+              std::to_string(c.edge_points) + " points of regular edges C2 around");
+    continuity.update({{"faces", c.faces}, {"lines", c.lines}, {"constrained", c.constrained}, {"faces_kept", c.faces_kept}, {"moved_max", c.moved_max}, {"lines_kept", c.lines_kept}, {"surface_lines", c.surface_lines}, {"edge_points", c.edge_points}});
     continuity["reoptimization"] = nullptr;
     if (params.optimize_sweeps > 0) {
       core::LogSection p("optimization again");

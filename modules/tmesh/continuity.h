@@ -58,6 +58,14 @@ struct ContinuityParams {
   /// With surface_layer and `project`: a line in the surface whose extra would move farther than
   /// this (a length) keeps C0 — a sharp edge along the rim would be rounded.
   double surface_move_max = std::numeric_limits<double>::infinity();
+  /// Regular edges: where four blocks meet around an inner block edge (2 x 2, no surface), the
+  /// 3 x 3 points around each edge point — C0 within one element of the edge otherwise — become
+  /// rows too (the tensor product of the two faces' knot removals: C2 across both faces up to the
+  /// edge), when the lines two points from the edge on all four faces are C2. The two faces on
+  /// either side of the edge then share one knot-interval ratio (fit_ratio fits it over both;
+  /// faces linked through edges form a sheet, fitted as one). Edges of valence 3 or 5 (irregular
+  /// nodes) keep the margin.
+  bool regular_edges = false;
 };
 
 struct ContinuityResult {
@@ -68,6 +76,7 @@ struct ContinuityResult {
   double moved_max = 0;  ///< the largest distance a constrained point moved (projection)
   int lines_kept = 0;    ///< lines left C0 by max_move_rel or surface_move_max
   int surface_lines = 0; ///< lines in the surface among `lines` (surface_layer)
+  int edge_points = 0;   ///< points of regular edges made C2 around (regular_edges): 8 rows each
 };
 
 /// A block face two blocks share (the same four corner ids): face `fa` (2·axis + side) of block
@@ -97,7 +106,10 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
 /// 1/6, 2/3, 1/6), derived from the stored rows alone (no knots needed). Every block control
 /// point stays where it is (the same spline); the global functions become non-negative. A line
 /// whose rows are not of that form (a weight outside [0, 1] to 1e-9, its face point named by
-/// another row) keeps its rows. Returns the lines rewritten.
+/// another row) keeps its rows. Around a regular edge point (ContinuityParams::regular_edges) the
+/// 3 x 3 points become rows of the tensor product of the four lines' bases: the edge point's new
+/// free node W and the lines' nodes (an edge whose four lines do not all convert keeps its rows,
+/// and so do those lines). Returns the lines rewritten.
 int smooth_rows_as_bsplines(std::vector<TMesh>& blocks);
 
 }  // namespace volts::tmesh
