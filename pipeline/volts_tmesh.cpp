@@ -301,6 +301,7 @@ core::Json build_and_write(pipeline::StageContext& ctx) {
   // The smooth rows in the C2 spline's B-spline basis (same spline, non-negative functions; after
   // every optimization: the optimizer moves block points and their rows' nodes, not free nodes).
   if (continuity_mode == "c2") {
+    core::LogSection s("B-spline basis of the C2 rows");
     const int lines = tmesh::smooth_rows_as_bsplines(ts);
     core::log(std::to_string(lines) + " of " + std::to_string(continuity.value("lines", 0)) + " C2 lines written in the B-spline basis (a free node each)");
     continuity["bspline_lines"] = lines;

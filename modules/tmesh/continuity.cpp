@@ -821,8 +821,9 @@ int smooth_rows_as_bsplines(std::vector<TMesh>& blocks) {
   for (const auto& [key, sides] : lines) {
     const auto& [ta, f, tb] = key;
     // F becomes a row: no other row may name it (but an edge point's), and it must be free.
-    std::set<int> names = named_by[f];
-    for (const int x : edge_points) names.erase(x);
+    std::set<int> names;
+    for (const int x : named_by[f])
+      if (!edge_points.count(x)) names.insert(x);
     if (sides[0].extra < 0 || sides[1].extra < 0 || constrained.count(f) || names != std::set<int>{sides[0].extra, sides[1].extra}) continue;
     const auto& w = sides[0].w;  // XA = w0 TA + w1 F + w2 TB
     const auto& u = sides[1].w;  // XB = u0 TA + u1 F + u2 TB

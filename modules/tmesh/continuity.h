@@ -8,8 +8,9 @@
 // TMesh::Constraint marked `smooth`), so the spline is the knot-removed one, t a simple knot.
 // Lines within `margin` face points of the face's rim keep the repeated knots: at the block
 // edges, where three (the pillow's corners) or five blocks meet, that is the template of C0
-// around the irregular nodes; at regular edges too for now (tensor rows there are the next step).
-// docs/status.md "Session 39" has the plan. volts-tmesh (`tmesh.continuity: c2`, session 50) adds
+// around the irregular nodes. At regular edges (four blocks, 2 x 2; regular_edges, session 51)
+// the 3 x 3 points around each edge point become rows too, the tensor product of the two
+// directions' rows, so the spline is C2 up to the edge. docs/status.md "Session 39" has the plan. volts-tmesh (`tmesh.continuity: c2`, session 50) adds
 // the rows to the net as it goes out (optimized and h-refined: one refined element of C0 at the
 // inner rims), up to and on the surface (surface_layer, a surface point moving at most a tenth of
 // epsilon_rel), fits each face's knot-interval ratio and bounds the moves (fit_ratio,

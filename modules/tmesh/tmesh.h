@@ -79,8 +79,8 @@ struct Params {
   bool fold_retry = true;
   /// Continuity across the faces between blocks: "c0" (every block face a zero-parametric-length
   /// layer), "c2" (raise_continuity(), continuity.h, on the optimized and h-refined net: C2
-  /// across the faces between blocks of one level away from their rims — C0 stays within two
-  /// control points of every block edge, the template around irregular nodes — then optimized
+  /// across the faces between blocks of one level and up to the edges where four blocks meet —
+  /// C0 stays within two control points of the others, the template around irregular nodes — then optimized
   /// again by volts-tmesh and written in the B-spline basis, smooth_rows_as_bsplines; cubic only)
   /// or "auto": c2 for cubics, c0 otherwise (continuity_mode()).
   std::string continuity = "auto";
