@@ -667,25 +667,30 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
   }
   std::vector<std::vector<TMesh::Constraint>> added(blocks.size());
   std::set<int> faces_used;
+  // Node `id` moves to x and becomes a smooth row (ids, weights) in every block that holds it.
+  auto constrain = [&](int id, const Vec3& x, const std::vector<int>& ids, const std::vector<double>& weights) {
+    r.moved_max = std::max(r.moved_max, distance(x, position[static_cast<std::size_t>(id)]));
+    for (const auto& [blk, at] : where[static_cast<std::size_t>(id)]) {
+      blocks[static_cast<std::size_t>(blk)].control_points[at] = x;
+      TMesh::Constraint c;
+      c.point = static_cast<int>(at);
+      c.smooth = true;
+      c.ids = ids, c.weights = weights;
+      added[static_cast<std::size_t>(blk)].push_back(std::move(c));
+    }
+    ++r.constrained;
+  };
   for (const EdgePoint& e : edges) {
     if (!e.ok) continue;
     for (int x = 0; x < 8; ++x) {
-      const int id = e.extras[static_cast<std::size_t>(x)];
-      const Vec3 p = kept_row_point(e, x);
-      r.moved_max = std::max(r.moved_max, distance(p, position[static_cast<std::size_t>(id)]));
-      for (const auto& [blk, at] : where[static_cast<std::size_t>(id)]) {
-        blocks[static_cast<std::size_t>(blk)].control_points[at] = p;
-        TMesh::Constraint c;
-        c.point = static_cast<int>(at);
-        c.smooth = true;
-        // The corners name all nine kept points in their order (smooth_rows_as_bsplines reads the
-        // edge's layout from it); the others the three their rows reach.
-        for (int k = 0; k < 9; ++k)
-          if (e.w[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)] != 0 || EdgePoint::corner(x))
-            c.ids.push_back(e.kept[static_cast<std::size_t>(k)]), c.weights.push_back(e.w[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)]);
-        added[static_cast<std::size_t>(blk)].push_back(std::move(c));
-      }
-      ++r.constrained;
+      // The corners name all nine kept points in their order (smooth_rows_as_bsplines reads the
+      // edge's layout from it); the others the three their rows reach.
+      std::vector<int> ids;
+      std::vector<double> weights;
+      for (int k = 0; k < 9; ++k)
+        if (e.w[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)] != 0 || EdgePoint::corner(x))
+          ids.push_back(e.kept[static_cast<std::size_t>(k)]), weights.push_back(e.w[static_cast<std::size_t>(x)][static_cast<std::size_t>(k)]);
+      constrain(e.extras[static_cast<std::size_t>(x)], kept_row_point(e, x), ids, weights);
     }
     ++r.edge_points;
   }
@@ -693,20 +698,12 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
     if (!keep[l]) continue;
     const Line& line = lines[l];
     for (int side = 0; side < 2; ++side) {
-      const int extra = side ? line.extra_b : line.extra_a;
       const std::array<double, 3>& wt = side ? line.rows.b : line.rows.a;
-      const Vec3 x = row_point(line, side);
-      r.moved_max = std::max(r.moved_max, distance(x, position[static_cast<std::size_t>(extra)]));
-      for (const auto& [blk, at] : where[static_cast<std::size_t>(extra)]) {
-        blocks[static_cast<std::size_t>(blk)].control_points[at] = x;
-        TMesh::Constraint c;
-        c.point = static_cast<int>(at);
-        c.smooth = true;
-        for (int k = 0; k < 3; ++k)
-          if (wt[static_cast<std::size_t>(k)] != 0) c.ids.push_back(line.refs[static_cast<std::size_t>(k)]), c.weights.push_back(wt[static_cast<std::size_t>(k)]);
-        added[static_cast<std::size_t>(blk)].push_back(std::move(c));
-      }
-      ++r.constrained;
+      std::vector<int> ids;
+      std::vector<double> weights;
+      for (int k = 0; k < 3; ++k)
+        if (wt[static_cast<std::size_t>(k)] != 0) ids.push_back(line.refs[static_cast<std::size_t>(k)]), weights.push_back(wt[static_cast<std::size_t>(k)]);
+      constrain(side ? line.extra_b : line.extra_a, row_point(line, side), ids, weights);
     }
     ++r.lines;
     r.surface_lines += line.surface ? 1 : 0;

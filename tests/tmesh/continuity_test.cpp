@@ -171,6 +171,16 @@ std::pair<std::vector<tmesh::TMesh>, tmesh::ContinuityResult> raised(const std::
   return {std::move(ts), r};
 }
 
+// Extract's global basis of a net (its blocks' Bézier elements).
+extract::GlobalBasis global_basis_of(const std::vector<tmesh::TMesh>& net) {
+  std::vector<bezier::BezierHex> hexes;
+  for (const auto& t : net) {
+    const auto e = bezier::extract_bezier_hexes(test::volume(t));
+    hexes.insert(hexes.end(), e.begin(), e.end());
+  }
+  return extract::global_basis(net, hexes, false);
+}
+
 // The grid index of block t's control point i.
 std::array<int, 3> grid_of(const tmesh::TMesh& t, std::size_t i) {
   const int k = static_cast<int>(i);
@@ -580,18 +590,10 @@ TEST(Continuity, SmoothRowsAsBSplinesGiveANonNegativeBasisOfTheSameSpline) {
     tmesh::ContinuityParams p;
     p.surface_layer = true;
     auto [ts, r] = raised(c.make(), p);
-    auto basis = [](const std::vector<tmesh::TMesh>& net) {
-      std::vector<bezier::BezierHex> hexes;
-      for (const auto& t : net) {
-        const auto e = bezier::extract_bezier_hexes(test::volume(t));
-        hexes.insert(hexes.end(), e.begin(), e.end());
-      }
-      return extract::global_basis(net, hexes, false);
-    };
-    const extract::GlobalBasis before = basis(ts);
+    const extract::GlobalBasis before = global_basis_of(ts);
     const std::vector<tmesh::TMesh> removal = ts;
     const int lines = tmesh::smooth_rows_as_bsplines(ts);
-    const extract::GlobalBasis after = basis(ts);
+    const extract::GlobalBasis after = global_basis_of(ts);
     std::size_t free_nodes = 0;
     for (const auto& t : ts) free_nodes += t.free_nodes.size();
     std::printf("%s: %d of %d lines as B-splines; %zu global functions (%zu before); smallest coefficient %.3g (%.3g before)\n", c.name, lines,
@@ -605,7 +607,7 @@ TEST(Continuity, SmoothRowsAsBSplinesGiveANonNegativeBasisOfTheSameSpline) {
     for (std::size_t b = 0; b < ts.size(); ++b) EXPECT_EQ(ts[b].control_points, removal[b].control_points) << c.name;
     std::vector<tmesh::TMesh> read;
     for (const auto& t : ts) read.push_back(tmesh::from_json(tmesh::to_json(t), "test"));
-    EXPECT_EQ(basis(read).points.size(), after.points.size()) << c.name;
+    EXPECT_EQ(global_basis_of(read).points.size(), after.points.size()) << c.name;
   }
 }
 
@@ -707,18 +709,10 @@ TEST(Continuity, RegularEdgesAreC2UpToTheEdgeAndNonNegative) {
     EXPECT_GT(by_edge, 0) << c.name;
     EXPECT_EQ(missed, 0) << c.name;
     // In the B-spline basis: the same spline, non-negative functions, W one per edge point.
-    auto basis = [](const std::vector<tmesh::TMesh>& net) {
-      std::vector<bezier::BezierHex> hexes;
-      for (const auto& t : net) {
-        const auto e = bezier::extract_bezier_hexes(test::volume(t));
-        hexes.insert(hexes.end(), e.begin(), e.end());
-      }
-      return extract::global_basis(net, hexes, false);
-    };
-    const extract::GlobalBasis removal = basis(ts);
+    const extract::GlobalBasis removal = global_basis_of(ts);
     const std::vector<tmesh::TMesh> kept = ts;
     EXPECT_EQ(tmesh::smooth_rows_as_bsplines(ts), r.lines) << c.name;
-    const extract::GlobalBasis bs = basis(ts);
+    const extract::GlobalBasis bs = global_basis_of(ts);
     std::set<int> free_ids;
     for (const auto& t : ts)
       for (const auto& f : t.free_nodes) free_ids.insert(f.id);
