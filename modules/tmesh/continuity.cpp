@@ -390,7 +390,6 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
     return x;
   };
   auto row_point = [&](const Line& line, int side) { return row_point_of(line.rows, line.refs, side); };
-  auto distance = [](const Vec3& x, const Vec3& y) { return std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]); };
   using RowKey = std::vector<double>;  // (nA, nB) for unit intervals, else the knots across the face
   std::map<RowKey, LineRows> rows_of;
   std::vector<Line> lines;
@@ -502,7 +501,7 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
     for (std::size_t l = 0; l < lines.size(); ++l) reach[l] = {nearest_neighbour(blocks, where, lines[l].extra_a), nearest_neighbour(blocks, where, lines[l].extra_b)};
   auto within = [&](std::size_t l, const LineRows& rows) {
     for (int side = 0; side < 2; ++side) {
-      const double move = distance(row_point_of(rows, lines[l].refs, side), position[static_cast<std::size_t>(side ? lines[l].extra_b : lines[l].extra_a)]);
+      const double move = distance_of(row_point_of(rows, lines[l].refs, side), position[static_cast<std::size_t>(side ? lines[l].extra_b : lines[l].extra_a)]);
       if (move > params.max_move_rel * reach[l][static_cast<std::size_t>(side)] || (lines[l].surface && move > params.surface_move_max)) return false;
     }
     return true;
@@ -518,7 +517,7 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
     const bool surface = std::any_of(e.line.begin(), e.line.end(), [&](int l) { return lines[static_cast<std::size_t>(l)].surface; });
     for (int x = 0; x < 8; ++x) {
       const int id = e.extras[static_cast<std::size_t>(x)];
-      const double move = distance(kept_row_point(e, x), position[static_cast<std::size_t>(id)]);
+      const double move = distance_of(kept_row_point(e, x), position[static_cast<std::size_t>(id)]);
       if (move > params.max_move_rel * nearest_neighbour(blocks, where, id) || (surface && move > params.surface_move_max)) return false;
     }
     return true;
@@ -536,7 +535,7 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
           const LineRows rows = ff.rows_at(std::exp(parity ? -log_rho : log_rho));
           for (std::size_t l = ff.first; l < ff.last; ++l)
             for (int side = 0; side < 2; ++side) {
-              const double d = distance(row_point_of(rows, lines[l].refs, side), position[static_cast<std::size_t>(side ? lines[l].extra_b : lines[l].extra_a)]);
+              const double d = distance_of(row_point_of(rows, lines[l].refs, side), position[static_cast<std::size_t>(side ? lines[l].extra_b : lines[l].extra_a)]);
               c += d * d;
             }
         }
@@ -653,9 +652,7 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
   if (!params.project)  // only where the spline is C2 along the line already
     for (std::size_t l = 0; l < lines.size(); ++l)
       for (int side = 0; side < 2 && keep[l]; ++side) {
-        const Vec3 x = row_point(lines[l], side);
-        const Vec3& y = position[static_cast<std::size_t>(side ? lines[l].extra_b : lines[l].extra_a)];
-        if (std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]) > tol) keep[l] = 0;
+        if (distance_of(row_point(lines[l], side), position[static_cast<std::size_t>(side ? lines[l].extra_b : lines[l].extra_a)]) > tol) keep[l] = 0;
       }
   // Edge points: the same bounds on their eight extras; none with a line left C0.
   for (EdgePoint& e : edges) {
@@ -663,13 +660,13 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
     e.ok = e.ok && (!params.project || edge_within(e));
     if (!params.project)
       for (int x = 0; x < 8 && e.ok; ++x)
-        if (distance(kept_row_point(e, x), position[static_cast<std::size_t>(e.extras[static_cast<std::size_t>(x)])]) > tol) e.ok = false;
+        if (distance_of(kept_row_point(e, x), position[static_cast<std::size_t>(e.extras[static_cast<std::size_t>(x)])]) > tol) e.ok = false;
   }
   std::vector<std::vector<TMesh::Constraint>> added(blocks.size());
   std::set<int> faces_used;
   // Node `id` moves to x and becomes a smooth row (ids, weights) in every block that holds it.
   auto constrain = [&](int id, const Vec3& x, const std::vector<int>& ids, const std::vector<double>& weights) {
-    r.moved_max = std::max(r.moved_max, distance(x, position[static_cast<std::size_t>(id)]));
+    r.moved_max = std::max(r.moved_max, distance_of(x, position[static_cast<std::size_t>(id)]));
     for (const auto& [blk, at] : where[static_cast<std::size_t>(id)]) {
       blocks[static_cast<std::size_t>(blk)].control_points[at] = x;
       TMesh::Constraint c;
@@ -900,8 +897,8 @@ int smooth_rows_as_bsplines(std::vector<TMesh>& blocks) {
         for (int d = 0; d < 3 && ec.ok; ++d) G[1][1][static_cast<std::size_t>(d)] = ec.w[static_cast<std::size_t>(d)] = (x00[static_cast<std::size_t>(d)] - rest[static_cast<std::size_t>(d)]) / cc;
         for (int i = 0; i < 3 && ec.ok; ++i)
           for (int j = 0; j < 3 && ec.ok; ++j) {
-            const Vec3 x = combine(i, j, true), y = position(e.p[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]);
-            ec.ok = std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]) <= kTol * (1 + std::hypot(y[0], y[1], y[2]));
+            const Vec3 y = position(e.p[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]);
+            ec.ok = distance_of(combine(i, j, true), y) <= kTol * (1 + distance_of(y, Vec3{0, 0, 0}));
           }
       }
       if (ec.ok) continue;
