@@ -155,6 +155,7 @@ struct EdgePoint {
   std::array<int, 4> line{};    // u lines at j = -2, 2, then v lines at i = -2, 2
   std::array<int, 4> parity{};  // 1: the line runs from the plus side (its A block there)
   std::array<std::array<double, 9>, 8> w{};
+  std::array<double, 8> reach{};  // each extra's nearest neighbour distance (the move bound's)
   bool ok = false;
   static std::pair<int, int> cell(int x) {
     static const int c[8][2] = {{-1, -1}, {-1, 0}, {-1, 1}, {0, -1}, {0, 1}, {1, -1}, {1, 0}, {1, 1}};
@@ -471,6 +472,8 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
   // Regular edge points (ContinuityParams::regular_edges): their four lines, and the faces on
   // either side of each edge linked (one ratio: the tensor rows need the same knots on both).
   std::vector<EdgePoint> edges = params.regular_edges ? edge_points(blocks, where, lines) : std::vector<EdgePoint>{};
+  for (EdgePoint& e : edges)
+    for (int x = 0; x < 8; ++x) e.reach[static_cast<std::size_t>(x)] = nearest_neighbour(blocks, where, e.extras[static_cast<std::size_t>(x)]);
   std::vector<int> parent(static_cast<std::size_t>(pairs)), flip(static_cast<std::size_t>(pairs), 0);
   std::vector<char> conflict(static_cast<std::size_t>(pairs), 0);
   for (int f = 0; f < pairs; ++f) parent[static_cast<std::size_t>(f)] = f;
@@ -518,7 +521,7 @@ ContinuityResult raise_continuity(std::vector<TMesh>& blocks, const ContinuityPa
     for (int x = 0; x < 8; ++x) {
       const int id = e.extras[static_cast<std::size_t>(x)];
       const double move = distance_of(kept_row_point(e, x), position[static_cast<std::size_t>(id)]);
-      if (move > params.max_move_rel * nearest_neighbour(blocks, where, id) || (surface && move > params.surface_move_max)) return false;
+      if (move > params.max_move_rel * e.reach[static_cast<std::size_t>(x)] || (surface && move > params.surface_move_max)) return false;
     }
     return true;
   };
