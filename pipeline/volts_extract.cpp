@@ -20,16 +20,21 @@ int main(int argc, char** argv) {
       "other files take its stem.",
       [](pipeline::StageContext& ctx) {
         const std::string in = ctx.input_file("tmesh");
-        const core::Json j = core::read_stage_file(in, "volts-tmesh", 3);
-        pipeline::check_integer_members(in, j);
-        const surface::Mesh mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
+        // The stage file's JSON tree is freed inside the section: on the assembly it is ~1 GB.
+        surface::Mesh mesh;
         std::vector<tmesh::TMesh> t;
-        try {
-          const core::Json& list = core::require(j, "tmeshes", in);
-          if (!list.is_array() || list.empty()) throw core::InvalidInputError(in + ": tmeshes must be a non-empty list of T-meshes");
-          for (const auto& x : list) t.push_back(tmesh::from_json(x, in));
-        } catch (const core::Json::exception& e) {
-          throw core::InvalidInputError(in + ": malformed tmeshes: " + e.what());
+        {
+          core::LogSection reading("read");
+          const core::Json j = core::read_stage_file(in, "volts-tmesh", 3);
+          pipeline::check_integer_members(in, j);
+          mesh = surface::mesh_from_json(core::require(j, "surface", in), in);
+          try {
+            const core::Json& list = core::require(j, "tmeshes", in);
+            if (!list.is_array() || list.empty()) throw core::InvalidInputError(in + ": tmeshes must be a non-empty list of T-meshes");
+            for (const auto& x : list) t.push_back(tmesh::from_json(x, in));
+          } catch (const core::Json::exception& e) {
+            throw core::InvalidInputError(in + ": malformed tmeshes: " + e.what());
+          }
         }
         pipeline::check_exports(ctx, t[0].degree, "tmesh.degree");  // before any work: a bad list costs nothing
         extract::Result r;

@@ -760,18 +760,30 @@ class FaceGrids {
   mutable std::map<int, std::vector<bezier::HexPoints>> grids_;  // a map's nodes stay where they are
 };
 
-// The largest distance of the faces' sample points to the surface.
-double faces_deviation(const bezier::BezierHex& h, const std::vector<int>& faces, const FaceGrids& grids, const SlideSurface& surface) {
-  double d = 0;
+// max(floor, the largest distance of the faces' sample points to the surface), exactly: a sample
+// within `floor` of a known surface point (its entry of `near`, else the previous sample's closest
+// point) cannot raise it, so only the others are searched. `near` keeps one surface point per
+// sample between calls (the step checks of a round see the same faces moved a little): on the
+// assembly most samples of a step check need no search, and the closest-point queries were a
+// tenth of tmesh's time.
+double faces_deviation(const bezier::BezierHex& h, const std::vector<int>& faces, const FaceGrids& grids, const SlideSurface& surface,
+                       double floor, std::vector<Eigen::Vector3d>& near) {
+  double d = floor;
   thread_local std::vector<Eigen::Vector3d> xs;
+  std::size_t at = 0;
+  bool have = false;
+  Eigen::Vector3d c;
   for (const int f : faces) {
     grids.face(h.degree[0], f).evaluate(h, &xs, nullptr);
-    // Each search starts from the previous sample's closest point (quality::boundary_deviation's way).
-    Vec3 c{};
-    for (std::size_t i = 0; i < xs.size(); ++i) {
+    if (near.size() < at + xs.size()) near.resize(at + xs.size(), Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+    for (std::size_t i = 0; i < xs.size(); ++i, ++at) {
       const Eigen::Vector3d& x = xs[i];
-      c = i == 0 ? surface.closest({x.x(), x.y(), x.z()}) : surface.closest({x.x(), x.y(), x.z()}, c);
-      d = std::max(d, std::hypot(x.x() - c[0], x.y() - c[1], x.z() - c[2]));
+      if (!std::isnan(near[at].x())) c = near[at], have = true;
+      if (have && (x - c).norm() <= d) continue;
+      // Each search starts from a surface point near the answer (quality::boundary_deviation's way).
+      const Vec3 y = have ? surface.closest({x.x(), x.y(), x.z()}, {c.x(), c.y(), c.z()}) : surface.closest({x.x(), x.y(), x.z()});
+      c = Eigen::Vector3d(y[0], y[1], y[2]), have = true, near[at] = c;
+      d = std::max(d, (x - c).norm());
     }
   }
   return d;
@@ -855,7 +867,8 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     // The boundary-deviation guard (OptimizeParams::max_boundary_deviation): the boundary faces of
     // the elements a sliding node supports, and their deviation now.
     std::vector<std::vector<int>> guard_faces(els.size());
-    std::vector<double> deviation_before(els.size(), 0.0);
+    std::vector<double> deviation_before(els.size(), 0.0);  // max(the bound, the faces' deviation at the start)
+    std::vector<std::vector<Eigen::Vector3d>> near_points(els.size());  // faces_deviation's surface points
     if (surface && params.max_boundary_deviation > 0) {
       bool sliding = false;
       for (const SlideFrame& f : frame) sliding = sliding || f.dims > 0;
@@ -870,7 +883,8 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         if (slides) guard_faces[k] = s.boundary_faces(e);
       }
       pool.for_each(els.size(), [&](std::size_t k) {
-        if (!guard_faces[k].empty()) deviation_before[k] = faces_deviation(s.hex(static_cast<std::size_t>(els[k])), guard_faces[k], face_grids, *surface);
+        if (!guard_faces[k].empty())
+          deviation_before[k] = faces_deviation(s.hex(static_cast<std::size_t>(els[k])), guard_faces[k], face_grids, *surface, params.max_boundary_deviation, near_points[k]);
       });
     }
     // The worst figure of the certified elements: with folds among els, a round that raises it is
@@ -1142,7 +1156,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
                              (!q[e].valid && t.now[k].scaled < q[e].scaled);
           // (Measured only where its nodes stay otherwise: the closest points are the cost.)
           const bool strays = !falls && !guard_faces[k].empty() &&
-                              faces_deviation(h, guard_faces[k], face_grids, *surface) > std::max(params.max_boundary_deviation, deviation_before[k]);
+                              faces_deviation(h, guard_faces[k], face_grids, *surface, deviation_before[k], near_points[k]) > deviation_before[k];
           // 1: all its nodes go back; 2: its boundary strays, its sliding nodes go back (its faces
           // depend on them alone; its interior nodes may still untangle it).
           bad[i] = falls ? 1 : strays ? 2 : 0;
