@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <iterator>
 #include <limits>
@@ -226,94 +227,81 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
         for (int col = 0; col < q; ++col)
           if (C(r, col) != 0.0) nonzero[d][static_cast<std::size_t>(r)].push_back(col);
     }
-    if (std::any_of(local.begin(), local.end(), [&](int id) { return row[static_cast<std::size_t>(id)] != nullptr; })) {
-      // With T-junctions: local function l contributes to the functions of its node's row.
-      for (const int id : local)
-        if (const auto* r = row[static_cast<std::size_t>(id)]) {
-          for (const int m : r->ids) el.functions.push_back(function_of[static_cast<std::size_t>(m)]);
-        } else {
-          el.functions.push_back(function_of[static_cast<std::size_t>(id)]);
-        }
-      std::sort(el.functions.begin(), el.functions.end());
-      el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
-      const int nb = q * q * q;
-      using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-      RowMajorMatrix dense = RowMajorMatrix::Zero(static_cast<Eigen::Index>(el.functions.size()), nb);
-      auto index = [&](int f) { return std::lower_bound(el.functions.begin(), el.functions.end(), f) - el.functions.begin(); };
-      for (int l = 0; l < nb; ++l) {
-        const int a = l % q, bb = (l / q) % q, c = l / (q * q);
-        // Only the nonzero products (the zero ones added nothing: the same sums bit for bit).
-        const int id = local[static_cast<std::size_t>(l)];
-        const auto* r = row[static_cast<std::size_t>(id)];
-        const std::size_t targets = r ? r->ids.size() : 1;
-        for (std::size_t k = 0; k < targets; ++k) {
-          const auto at = index(function_of[static_cast<std::size_t>(r ? r->ids[k] : id)]);
-          const double w = r ? r->weights[k] : 1.0;
-          for (const int cw : nonzero[2][static_cast<std::size_t>(c)])
-            for (const int cv : nonzero[1][static_cast<std::size_t>(bb)])
-              for (const int cu : nonzero[0][static_cast<std::size_t>(a)]) {
-                const double v = Cu(a, cu) * Cv(bb, cv) * Cw(c, cw);
-                dense(at, cu + q * (cv + q * cw)) += r ? w * v : v;
-              }
-        }
+    // Local function l adds its Bernstein row Cu(a,:)⊗Cv(b,:)⊗Cw(c,:) to the row of its global
+    // function, or with a T-junction's weights to the rows its node's row names. The terms are
+    // grouped by global row, local order kept within each (stable sort), and summed one row at a
+    // time: each entry sums its terms in local order. A dense functions × (p+1)^3 matrix did the
+    // same, but zeroing and scanning it was most of this phase with C2 rows (~100 functions
+    // per element).
+    struct Term {
+      int row;  // index in el.functions
+      int l;    // local function
+      double w;
+    };
+    thread_local std::vector<Term> terms;
+    terms.clear();
+    const bool rows = std::any_of(local.begin(), local.end(), [&](int id) { return row[static_cast<std::size_t>(id)] != nullptr; });
+    for (const int id : local)
+      if (const auto* r = row[static_cast<std::size_t>(id)]) {
+        for (const int m : r->ids) el.functions.push_back(function_of[static_cast<std::size_t>(m)]);
+      } else {
+        el.functions.push_back(function_of[static_cast<std::size_t>(id)]);
       }
-      // Its nonzero entries row by row (as sparseView(0, 0) kept them; that copy took a tenth of
-      // extract's time with every element carrying C2 rows).
-      el.op.resize(static_cast<int>(dense.rows()), nb);
-      el.op.reserve(static_cast<Eigen::Index>((dense.array() != 0.0).count()));
-      for (Eigen::Index r = 0; r < dense.rows(); ++r) {
-        el.op.startVec(static_cast<int>(r));
-        for (Eigen::Index col = 0; col < nb; ++col)
-          if (dense(r, col) != 0.0) el.op.insertBack(static_cast<int>(r), static_cast<int>(col)) = dense(r, col);
+    std::sort(el.functions.begin(), el.functions.end());
+    el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
+    auto index = [&](int f) { return static_cast<int>(std::lower_bound(el.functions.begin(), el.functions.end(), f) - el.functions.begin()); };
+    const int nb = q * q * q;
+    for (int l = 0; l < nb; ++l) {
+      const int id = local[static_cast<std::size_t>(l)];
+      if (const auto* r = row[static_cast<std::size_t>(id)]) {
+        for (std::size_t k = 0; k < r->ids.size(); ++k) terms.push_back({index(function_of[static_cast<std::size_t>(r->ids[k])]), l, r->weights[k]});
+      } else {
+        terms.push_back({index(function_of[static_cast<std::size_t>(id)]), l, 1.0});
       }
-      el.op.finalize();
-    } else {
-      for (int& id : local) id = function_of[static_cast<std::size_t>(id)];
-      el.functions = local;
-      std::sort(el.functions.begin(), el.functions.end());
-      el.functions.erase(std::unique(el.functions.begin(), el.functions.end()), el.functions.end());
-      // The operator filled row by row, columns ascending, straight into its row-major storage.
-      // Entry (row, column) sums the products of the row's local functions in local order, as
-      // setFromTriplets summed triplets listed in local order: the same values bit for bit,
-      // without the triplets (up to (p+1)^6 per element) and setFromTriplets' transposed copy,
-      // most of extract's allocations.
-      const std::size_t nb = static_cast<std::size_t>(q * q * q);
-      std::vector<int> row_of(nb), by_row(nb);
-      std::size_t products = 0;
-      for (std::size_t l = 0; l < nb; ++l) {
-        row_of[l] = static_cast<int>(std::lower_bound(el.functions.begin(), el.functions.end(), local[l]) - el.functions.begin());
-        by_row[l] = static_cast<int>(l);
-        const std::size_t uq = static_cast<std::size_t>(q);
-        products += nonzero[0][l % uq].size() * nonzero[1][(l / uq) % uq].size() * nonzero[2][l / (uq * uq)].size();
-      }
-      std::stable_sort(by_row.begin(), by_row.end(), [&](int x, int y) { return row_of[static_cast<std::size_t>(x)] < row_of[static_cast<std::size_t>(y)]; });
-      std::vector<double> sum(nb, 0.0);
-      std::vector<char> used(nb, 0);
-      el.op.resize(static_cast<int>(el.functions.size()), static_cast<int>(nb));
-      el.op.reserve(static_cast<Eigen::Index>(products));
-      for (std::size_t at = 0; at < nb;) {
-        const int row = row_of[static_cast<std::size_t>(by_row[at])];
-        el.op.startVec(row);
-        for (; at < nb && row_of[static_cast<std::size_t>(by_row[at])] == row; ++at) {
-          const int l = by_row[at];
-          const int a = l % q, bb = (l / q) % q, c = l / (q * q);
-          for (const int cw : nonzero[2][static_cast<std::size_t>(c)])
-            for (const int cv : nonzero[1][static_cast<std::size_t>(bb)])
-              for (const int cu : nonzero[0][static_cast<std::size_t>(a)]) {
-                const double v = Cu(a, cu) * Cv(bb, cv) * Cw(c, cw);
-                if (v == 0.0) continue;
-                const std::size_t col = static_cast<std::size_t>(cu + q * (cv + q * cw));
-                sum[col] += v, used[col] = 1;  // 0 + v is v: the first term is copied exactly
-              }
-        }
-        for (std::size_t col = 0; col < nb; ++col)
-          if (used[col]) {
-            el.op.insertBack(row, static_cast<int>(col)) = sum[col];  // kept if it cancels, as setFromTriplets did
-            sum[col] = 0.0, used[col] = 0;
-          }
-      }
-      el.op.finalize();
     }
+    std::stable_sort(terms.begin(), terms.end(), [](const Term& x, const Term& y) { return x.row < y.row; });
+    // Without rows an entry is kept where a nonzero product reached it, even if the sum cancels
+    // (as setFromTriplets did); with rows where the sum is nonzero (as the dense matrix's
+    // nonzeros were): both as before, bit for bit.
+    // `used` is a bit per column: a row's entries are then read in column order from its set bits
+    // alone (scanning all (p+1)^3 columns per row cost as much as the products).
+    thread_local std::vector<double> sum;
+    thread_local std::vector<std::uint64_t> used;
+    sum.assign(static_cast<std::size_t>(nb), 0.0), used.assign(static_cast<std::size_t>(nb + 63) / 64, 0);
+    double* const acc = sum.data();
+    std::uint64_t* const bits = used.data();
+    std::size_t products = 0;
+    for (const Term& t : terms) {
+      const std::size_t uq = static_cast<std::size_t>(q), ul = static_cast<std::size_t>(t.l);
+      products += nonzero[0][ul % uq].size() * nonzero[1][(ul / uq) % uq].size() * nonzero[2][ul / (uq * uq)].size();
+    }
+    el.op.resize(static_cast<int>(el.functions.size()), nb);
+    el.op.reserve(static_cast<Eigen::Index>(products));
+    for (std::size_t at = 0; at < terms.size();) {
+      const int r = terms[at].row;
+      el.op.startVec(r);
+      for (; at < terms.size() && terms[at].row == r; ++at) {
+        const int l = terms[at].l;
+        const double w = terms[at].w;
+        const int a = l % q, bb = (l / q) % q, c = l / (q * q);
+        for (const int cw : nonzero[2][static_cast<std::size_t>(c)])
+          for (const int cv : nonzero[1][static_cast<std::size_t>(bb)])
+            for (const int cu : nonzero[0][static_cast<std::size_t>(a)]) {
+              const double v = Cu(a, cu) * Cv(bb, cv) * Cw(c, cw);
+              if (!rows && v == 0.0) continue;
+              const std::size_t col = static_cast<std::size_t>(cu + q * (cv + q * cw));
+              acc[col] += rows ? w * v : v, bits[col / 64] |= std::uint64_t{1} << (col % 64);
+            }
+      }
+      for (std::size_t word = 0; word < used.size(); ++word)
+        for (std::uint64_t m = bits[word]; m; m &= m - 1) {
+          const std::size_t col = 64 * word + static_cast<std::size_t>(__builtin_ctzll(m));
+          if (!rows || acc[col] != 0.0) el.op.insertBack(r, static_cast<int>(col)) = acc[col];
+          acc[col] = 0.0;
+        }
+      std::fill(used.begin(), used.end(), 0);
+    }
+    el.op.finalize();
     // Partition of unity and reproduction of the extracted hex.
     const bezier::BezierHex& h = hexes[e];
     if (h.num_points() != q * q * q) {
@@ -329,7 +317,9 @@ GlobalBasis global_basis(const std::vector<tmesh::TMesh>& ts, const std::vector<
       }
     const double pou = (sums.array() - 1.0).abs().maxCoeff();
     pous[e] = pou;
-    for (Eigen::Index k = 0; k < el.op.nonZeros(); ++k) mins[e] = std::min(mins[e], el.op.valuePtr()[k]);
+    double lowest = 0.0;
+    for (Eigen::Index k = 0; k < el.op.nonZeros(); ++k) lowest = std::min(lowest, el.op.valuePtr()[k]);
+    mins[e] = lowest;
     if (!(pou <= 1e-12)) {
       char msg[64];
       std::snprintf(msg, sizeof msg, "%.1e, allowed 1e-12)", pou);
