@@ -610,16 +610,13 @@ struct SlideFrame {
 std::size_t width(const SlideFrame& f) { return f.dims == 0 ? 3u : static_cast<std::size_t>(f.dims); }
 
 // y (a point of f's tangent plane or curve tangent) back onto the surface (the sharp curve) at
-// the node's offset from it. The search starts from `hint` (a surface point near the answer: the
-// node's last projection, else the frame's own surface point), which is then the answer: the same
-// closest point up to rounding, found faster (every evaluation projects every sliding node, and
-// its last projection is a step away, the frame's point up to the node's reach).
-Eigen::Vector3d onto_surface(const SlideFrame& f, const SlideSurface& surface, const Eigen::Vector3d& y, Eigen::Vector3d* hint = nullptr) {
-  const Eigen::Vector3d on = y - f.offset, at = hint ? *hint : Eigen::Vector3d(f.origin - f.offset);
+// the node's offset from it. The search starts from the frame's own surface point, within the
+// node's reach of the answer: the same closest point up to rounding, found faster (every
+// evaluation projects every sliding node).
+Eigen::Vector3d onto_surface(const SlideFrame& f, const SlideSurface& surface, const Eigen::Vector3d& y) {
+  const Eigen::Vector3d on = y - f.offset, at = f.origin - f.offset;
   const Vec3 c = f.dims == 2 ? surface.closest({on.x(), on.y(), on.z()}, {at.x(), at.y(), at.z()}) : surface.closest_sharp({on.x(), on.y(), on.z()});
-  const Eigen::Vector3d q(c[0], c[1], c[2]);
-  if (hint && f.dims == 2) *hint = q;
-  return q + f.offset;
+  return Eigen::Vector3d(c[0], c[1], c[2]) + f.offset;
 }
 
 bool slide_frame(const Spline& s, const SlideSurface& surface, int id, bool curves, SlideFrame& f) {
@@ -936,9 +933,6 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
     // check then sees; its gradient is the tangent plane's. In the plane alone, the objective
     // overrated the step: the rod's first sliding round reached 0.344 there and 0.079 once
     // projected; projected, 0.337 (docs/status.md "Session 41").
-    std::vector<Eigen::Vector3d> last_on(ids.size());  // per sliding variable: its last projection (onto_surface's hint)
-    for (std::size_t v = 0; v < ids.size(); ++v)
-      if (frame[v].dims > 0) last_on[v] = frame[v].origin - frame[v].offset;
     auto place = [&](std::size_t v, const std::vector<double>& x, bool project) -> std::array<double, 3> {
       const std::size_t at = first[v];
       const SlideFrame& f = frame[v];
@@ -950,7 +944,7 @@ void joint_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
       if (x[at] == 0 && b == 0) return {f.origin.x(), f.origin.y(), f.origin.z()};
       Eigen::Vector3d y = f.origin + x[at] * f.t1;
       if (f.dims == 2) y += b * f.t2;
-      if (project) y = onto_surface(f, *surface, y, &last_on[v]);
+      if (project) y = onto_surface(f, *surface, y);
       return {y.x(), y.y(), y.z()};
     };
     // Positions first (each projection is a closest-point query: on the pool), then set in order.
