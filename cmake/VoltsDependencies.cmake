@@ -4,6 +4,7 @@ find_package(Eigen3 3.3 REQUIRED CONFIG)
 find_package(CGAL REQUIRED)
 find_package(yaml-cpp REQUIRED)
 find_package(nlohmann_json 3.11 REQUIRED)  # core/stage_file.h: type_error::create(id, what, context)
+find_package(simdjson 3 REQUIRED CONFIG)  # core/stage_file.cpp: parses the stage files
 find_package(VTK 9 REQUIRED COMPONENTS CommonCore CommonDataModel IOXML)
 find_package(GTest)
 

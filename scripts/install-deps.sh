@@ -13,6 +13,7 @@ PKGS=(
   libvtk9-dev
   libyaml-cpp-dev
   nlohmann-json3-dev
+  libsimdjson-dev
   libgtest-dev libgmock-dev
   python3
   gmsh  # the tests run `gmsh bezier.msh -check` (tests/extract/exports_check.h)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <vector>
 
 #include "core/atomic_file.h"
@@ -52,6 +53,40 @@ TEST(StageFile, RoundTripKeepsDoublesExactly) {
   EXPECT_EQ(j["xs"].get<std::vector<double>>(), xs);
   EXPECT_EQ(j["version"].get<int>(), 2);
   EXPECT_EQ(d.count(), 1u);  // no temporary left
+}
+
+// read_stage_file parses with simdjson and converts to nlohmann's tree (stage_file.cpp): the tree
+// must be the one nlohmann's own parser makes, number types included, over texts with every kind
+// of value; an integer beyond 64 bits (which simdjson refuses) is a double, as nlohmann reads it.
+// The one difference: "-0" is an unsigned 0 here, a signed 0 in nlohmann (equal values).
+TEST(StageFile, ReadsTheTreeNlohmannWould) {
+  TempDir d;
+  const std::vector<std::string> payloads = {
+      R"("n": [0, 1, -1, 18446744073709551615, -9223372036854775808, 9223372036854775807, 9223372036854775808])",
+      R"("x": [0.0, -0.0, 1.5, 1e5, 1E-300, 2.2250738585072014e-308, 4.9e-324, 1.7976931348623157e308, 0.1, 123456789.123456789])",
+      R"("s": ["", "a\"b", "\u00e9t\u00e9 \ud83d\ude00", "cafÃ©", "tab\tnew\nline"], "b": [true, false, null])",
+      R"("o": {"a": {"b": [[], {}, [[1]], {"c": {"d": []}}]}, "k": 1, "k": 2})",
+      R"("big": 123456789012345678901234567890, "neg": -123456789012345678901234567890)",
+  };
+  for (const std::string& p : payloads) {
+    const std::string text = R"({"format": "volts-test", "version": 1, )" + p + "}";
+    write_raw(d.file("a.json"), text);
+    const core::Json got = core::read_stage_file(d.file("a.json"), "volts-test", 1);
+    const core::Json want = core::Json::parse(text);
+    EXPECT_EQ(got, want) << p;
+    EXPECT_EQ(got.dump(), want.dump()) << p;  // the same number types too (dump prints 1 and 1.0 apart)
+    // nlohmann's == compares numbers across types; the types themselves, value by value:
+    std::function<void(const core::Json&, const core::Json&)> same_types = [&](const core::Json& a, const core::Json& b) {
+      ASSERT_EQ(a.type(), b.type()) << a.dump() << " in " << p;
+      if (a.is_array())
+        for (std::size_t i = 0; i < a.size(); ++i) same_types(a[i], b[i]);
+      if (a.is_object())
+        for (auto it = a.begin(); it != a.end(); ++it) same_types(it.value(), b.at(it.key()));
+    };
+    same_types(got, want);
+  }
+  write_raw(d.file("a.json"), R"({"format": "volts-test", "version": 1, "z": -0})");
+  EXPECT_EQ(core::read_stage_file(d.file("a.json"), "volts-test", 1)["z"], 0);
 }
 
 TEST(StageFile, NewerVersionIsRefused) {
