@@ -86,17 +86,21 @@ TMesh build_block_on(const PointMap& map, int degree, const std::array<std::vect
   const std::array<std::size_t, 3> m{static_cast<std::size_t>(t.size[0]), static_cast<std::size_t>(t.size[1]),
                                      static_cast<std::size_t>(t.size[2])};
   // Sample the volume map at the Greville points, then solve N ⊗ N ⊗ N · P = D one axis at a time.
+  // Without a map, the structure alone (control points at the origin; h_refine sets them after).
   const std::size_t total = m[0] * m[1] * m[2];
-  Eigen::MatrixXd data(total, 3);
   t.parameters.resize(total);
   for (std::size_t k = 0; k < m[2]; ++k)
     for (std::size_t j = 0; j < m[1]; ++j)
-      for (std::size_t i = 0; i < m[0]; ++i) {
-        const std::size_t idx = i + m[0] * (j + m[1] * k);
-        t.parameters[idx] = {g[0][i], g[1][j], g[2][k]};
-        const Vec3 x = map(t.parameters[idx]);
-        data.row(static_cast<Eigen::Index>(idx)) << x[0], x[1], x[2];
-      }
+      for (std::size_t i = 0; i < m[0]; ++i) t.parameters[i + m[0] * (j + m[1] * k)] = {g[0][i], g[1][j], g[2][k]};
+  if (!map) {
+    t.control_points.assign(total, Vec3{0, 0, 0});
+    return t;
+  }
+  Eigen::MatrixXd data(total, 3);
+  for (std::size_t idx = 0; idx < total; ++idx) {
+    const Vec3 x = map(t.parameters[idx]);
+    data.row(static_cast<Eigen::Index>(idx)) << x[0], x[1], x[2];
+  }
   for (int axis = 0; axis < 3; ++axis) {
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(collocation(t.knots[axis], degree, g[axis]));
     const std::size_t stride = axis == 0 ? 1 : axis == 1 ? m[0] : m[0] * m[1];
@@ -286,7 +290,7 @@ std::vector<TMesh> build_with(const PolycubeMaps& maps, const Params& params, co
         throw core::ConfigError("tmesh: a block's level " + std::to_string(level) + " is outside [tmesh.level, 7]");
       const int split = 1 << (level - params.level);  // every element split in 2^3 per level
       const std::array<int, 3> elements{b.elements[0] * split, b.elements[1] * split, b.elements[2] * split};
-      const PointMap map = [&](const Vec3& uvw) { return maps.physical(cube, block_point(b.corners, uvw)); };
+      const PointMap map = maps.physical ? PointMap([&](const Vec3& uvw) { return maps.physical(cube, block_point(b.corners, uvw)); }) : PointMap();
       if (knots && blocks.size() >= knots->size()) throw core::InvalidInputError("tmesh: knots for " + std::to_string(knots->size()) + " blocks, the polycube has more");
       TMesh t = knots ? build_block_on(map, params.degree, (*knots)[blocks.size()]) : build_block(map, params.degree, elements);
       t.level = level;
@@ -995,7 +999,7 @@ std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, cons
     return coarse;
   }
   // The structure (knots, ids, T-junction rows) is build()'s at every block's level + times; its
-  // positions are not needed, so the physical map is the identity (no point location). With
+  // positions are not needed, so there is no physical map (no sampling, no solve). With
   // pillow_splits, or spans refined one by one (Params::refine "spans"), the knots are the coarse
   // ones with every span split as refinement_splits() says.
   std::vector<std::array<std::vector<double>, 3>> knots;
@@ -1005,7 +1009,7 @@ std::vector<TMesh> h_refine(const PolycubeMaps& maps, const Params& params, cons
     for (std::size_t b = 0; b < coarse.size(); ++b) knots.push_back(split_knots(coarse[b], splits[b]));
   }
   PolycubeMaps structure = maps;
-  structure.physical = [](int, const Vec3& x) { return x; };
+  structure.physical = nullptr;  // the structure alone: its positions are set below
   std::vector<std::size_t> offset;  // first block of each cube in `coarse`
   for (std::size_t b = 0; b < coarse.size(); ++b)
     if (b == 0 || coarse[b].component != coarse[b - 1].component) offset.push_back(b);
