@@ -754,15 +754,19 @@ int smooth_rows_as_bsplines(std::vector<TMesh>& blocks) {
     std::array<double, 3> w{};
   };
   std::map<std::array<int, 3>, std::array<Side, 2>> lines;
-  std::set<int> constrained;
-  std::map<int, std::set<int>> named_by;  // node -> the constrained points whose rows name it
+  std::vector<char> constrained(static_cast<std::size_t>(nodes), 0);
+  std::vector<std::vector<int>> named_by(static_cast<std::size_t>(nodes));  // node -> the constrained points whose rows name it (sorted below)
   std::map<std::array<int, 9>, std::vector<int>> corners;     // an edge point's kept nine -> its corner extras
   std::map<std::array<int, 3>, std::vector<int>> three_rows;  // a row's three ids -> the points with it
   for (std::size_t b = 0; b < blocks.size(); ++b)
     for (const auto& k : blocks[b].constraints) {
       const int point = blocks[b].function_ids[static_cast<std::size_t>(k.point)];
-      const bool first = constrained.insert(point).second;
-      for (const int m : k.ids) named_by[m].insert(point);
+      const bool first = !constrained[static_cast<std::size_t>(point)];
+      constrained[static_cast<std::size_t>(point)] = 1;
+      for (const int m : k.ids) {
+        if (m < 0 || m >= nodes) throw core::InvalidInputError("smooth_rows_as_bsplines: a row names node " + std::to_string(m) + ", no node of the blocks");
+        named_by[static_cast<std::size_t>(m)].push_back(point);
+      }
       if (!k.smooth) continue;
       if (k.ids.size() == 9 && first) {
         std::array<int, 9> key{};
@@ -775,6 +779,7 @@ int smooth_rows_as_bsplines(std::vector<TMesh>& blocks) {
       const int side = holds(static_cast<int>(b), key[0]) ? 0 : 1;
       lines[key][static_cast<std::size_t>(side)] = {point, {k.weights[0], k.weights[1], k.weights[2]}};
     }
+  for (auto& v : named_by) std::sort(v.begin(), v.end()), v.erase(std::unique(v.begin(), v.end()), v.end());
   // Regular edge points (raise_continuity's regular_edges): the nine kept points in their order,
   // the four corners, and the four points between them with three-id rows.
   struct Edge {
@@ -812,7 +817,7 @@ int smooth_rows_as_bsplines(std::vector<TMesh>& blocks) {
       for (int j = 0; j < 3; ++j)
         if (i != 1 || j != 1) eight.insert(e.p[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]);
     // Eight distinct points, and only they name the edge point.
-    if (eight.size() != 8 || constrained.count(K[4]) || named_by[K[4]] != eight) continue;
+    if (eight.size() != 8 || constrained[static_cast<std::size_t>(K[4])] || named_by[static_cast<std::size_t>(K[4])] != std::vector<int>(eight.begin(), eight.end())) continue;
     e.line_keys = {{{K[0], K[3], K[6]}, {K[2], K[5], K[8]}, {K[0], K[1], K[2]}, {K[6], K[7], K[8]}}};
     edge_points.insert(eight.begin(), eight.end());
     edges.push_back(e);
@@ -833,9 +838,9 @@ int smooth_rows_as_bsplines(std::vector<TMesh>& blocks) {
     const auto& [ta, f, tb] = key;
     // F becomes a row: no other row may name it (but an edge point's), and it must be free.
     std::set<int> names;
-    for (const int x : named_by[f])
+    for (const int x : named_by[static_cast<std::size_t>(f)])
       if (!edge_points.count(x)) names.insert(x);
-    if (sides[0].extra < 0 || sides[1].extra < 0 || constrained.count(f) || names != std::set<int>{sides[0].extra, sides[1].extra}) continue;
+    if (sides[0].extra < 0 || sides[1].extra < 0 || constrained[static_cast<std::size_t>(f)] || names != std::set<int>{sides[0].extra, sides[1].extra}) continue;
     const auto& w = sides[0].w;  // XA = w0 TA + w1 F + w2 TB
     const auto& u = sides[1].w;  // XB = u0 TA + u1 F + u2 TB
     if (std::abs(w[1]) < kTol || std::abs(u[1]) < kTol) continue;
@@ -979,9 +984,12 @@ int smooth_rows_as_bsplines(std::vector<TMesh>& blocks) {
       if (it == rows.end()) continue;
       k.ids = it->second.first, k.weights = it->second.second, changed = true;
     }
+    std::vector<char> has_row(t.function_ids.size(), 0);
+    for (const auto& k : t.constraints) has_row[static_cast<std::size_t>(k.point)] = 1;
     for (std::size_t i = 0; i < t.function_ids.size(); ++i) {  // face points: new rows
+      if (has_row[i]) continue;
       const auto it = rows.find(t.function_ids[i]);
-      if (it == rows.end() || std::any_of(t.constraints.begin(), t.constraints.end(), [&](const TMesh::Constraint& k) { return k.point == static_cast<int>(i); })) continue;
+      if (it == rows.end()) continue;
       TMesh::Constraint k;
       k.point = static_cast<int>(i), k.ids = it->second.first, k.weights = it->second.second, k.smooth = true;
       t.constraints.push_back(std::move(k));
