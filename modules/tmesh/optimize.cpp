@@ -1377,6 +1377,11 @@ void sweep_phase(Spline& s, std::vector<Quality>& q, std::vector<std::vector<Eig
         for (const int x : near) (q[static_cast<std::size_t>(x)].valid && q[static_cast<std::size_t>(x)].grid == params.grid_points ? linearized : direct).push_back(x);
         // Row x of the samples with the node moved by h along x, per element (in parallel), then
         // added in element order.
+        // Samples refresh() did not keep: the same grid on the same points (the sampled figure's).
+        pool.for_each(linearized.size(), [&](std::size_t k) {
+          const std::size_t x = static_cast<std::size_t>(linearized[k]);
+          if (samples[x].empty()) samples[x] = bezier::jacobian_samples(s.hex(x), params.gauss_points, params.grid_points);
+        }, 4);
         std::vector<std::vector<Eigen::RowVector3d>> J1(linearized.size());
         s.set_position(id, {x0[0] + h, x0[1], x0[2]});
         pool.for_each(linearized.size(), [&](std::size_t k) {
@@ -1547,12 +1552,16 @@ struct State {
     r.min_before = worst_figures(q).second;  // the usual sample's, as min_after (a fold's witness counts in `scaled` only)
     for (const Quality& x : q) r.element_before.push_back(x.sampled);
   }
-  // Every element's figures from its points, each on its own sample grid.
+  // Every element's figures from its points, each on its own sample grid. Its samples are not
+  // kept: only the sweeps read them, on the few elements they reach, and compute them there
+  // (sweep_phase); kept for all they were most of tmesh's memory (the assembly: ~0.45 GB).
   void refresh(const OptimizeParams& params) {
     const bezier::CertifyParams cp;
     pool.for_each(s.size(), [&](std::size_t e) {
       const bezier::BezierHex h = s.hex(e);
-      sample_figures(h, params, q[e], samples[e]);
+      thread_local std::vector<Eigen::Matrix3d> js;
+      sample_figures(h, params, q[e], js);
+      std::vector<Eigen::Matrix3d>().swap(samples[e]);
       certify_figure(h, cp, q[e]);
       q[e].trilinear = corner_hex_scaled_jacobian(h);
     });
