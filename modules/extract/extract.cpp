@@ -378,6 +378,7 @@ Result extract(const std::vector<tmesh::TMesh>& ts, const Mesh& surface, const P
           for (int side = 0; side < 2; ++side)
             if (t.boundary[2 * axis + side] && idx[axis] == (side ? n[axis] - 1 : 0)) boundary.push_back({offset + e, axis, side});
       }
+      r.grids.push_back({offset, {n[0], n[1], n[2]}});
       r.hexes.insert(r.hexes.end(), std::make_move_iterator(hexes.begin()), std::make_move_iterator(hexes.end()));
       block.insert(block.end(), hexes.size(), static_cast<int>(&t - ts.data()));
     }
@@ -488,7 +489,7 @@ void write_bezier_vtu(const std::string& path, const Result& r) {
                                           {"status", 1, std::vector<double>(r.status.begin(), r.status.end())},
                                           {"certified_min_detj", 1, r.certified_min_detj}};
   if (!r.min_scaled_jacobian_dense.empty()) cells.push_back({"min_scaled_jacobian_dense", 1, r.min_scaled_jacobian_dense});
-  bezier::write_bezier_vtu(path, r.hexes, cells, shared_points(r.hexes));
+  bezier::write_bezier_vtu(path, r.hexes, cells, r.grids.empty() ? shared_points(r.hexes) : shared_points(r.hexes, r.grids));
 }
 
 std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes) {
@@ -519,6 +520,72 @@ std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes) {
         ids.push_back(next++);
       }
     }
+  return ids;
+}
+
+std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes, const std::vector<ElementGrid>& grids) {
+  Eigen::AlignedBox3d box;
+  std::size_t total = 0;
+  for (const auto& h : hexes) {
+    for (const auto& x : h.points) box.extend(x);
+    total += h.points.size();
+  }
+  const double tol = std::max(point_tolerance(box, 1e-12), std::numeric_limits<double>::min());
+  PointIndex index(box, tol);  // the grids' sides only: the points a neighbour may share
+  std::vector<int> file_point;  // per index point: its file point (of that point's weight)
+  std::vector<double> weight;   // per index point
+  std::vector<Eigen::Vector3d> first_at;  // per file point: where it was first seen, and its weight
+  std::vector<double> first_weight;
+  std::vector<int> ids;
+  ids.reserve(total);
+  int next = 0;
+  auto fresh = [&](const Eigen::Vector3d& x, double w) {
+    first_at.push_back(x), first_weight.push_back(w);
+    return next++;
+  };
+  // shared_points' rule: a point within the tolerance of an earlier one of equal weight is that one.
+  auto by_position = [&](const Eigen::Vector3d& x, double w) {
+    const int p = index.find_or_add(x);
+    if (p == static_cast<int>(file_point.size())) {
+      const int id = fresh(x, w);
+      file_point.push_back(id), weight.push_back(w);
+      return id;
+    }
+    if (std::abs(weight[static_cast<std::size_t>(p)] - w) <= 1e-12 * std::abs(w)) return file_point[static_cast<std::size_t>(p)];
+    return fresh(x, w);
+  };
+  std::size_t e = 0;
+  for (const ElementGrid& g : grids) {
+    const long long count = static_cast<long long>(g.n[0]) * g.n[1] * g.n[2];
+    if (g.first != static_cast<int>(e) || g.n[0] < 1 || g.n[1] < 1 || g.n[2] < 1 || count > static_cast<long long>(hexes.size() - e))
+      throw core::InvalidInputError("shared_points: the element grids do not cover the hexes in order (grid at " + std::to_string(g.first) + ")");
+    const std::array<int, 3> p = hexes[e].degree;
+    const std::array<int, 3> m{p[0] * g.n[0] + 1, p[1] * g.n[1] + 1, p[2] * g.n[2] + 1};
+    std::vector<int> net(static_cast<std::size_t>(m[0]) * m[1] * m[2], -1);  // net point -> file point
+    for (int ec = 0; ec < g.n[2]; ++ec)
+      for (int eb = 0; eb < g.n[1]; ++eb)
+        for (int ea = 0; ea < g.n[0]; ++ea, ++e) {
+          const bezier::BezierHex& h = hexes[e];
+          if (h.degree != p) throw core::InvalidInputError("shared_points: hex " + std::to_string(e) + " has another degree than its grid's first");
+          for (int n = 0; n < h.num_points(); ++n) {
+            const auto [i, j, k] = h.ijk(n);
+            const std::array<int, 3> at{p[0] * ea + i, p[1] * eb + j, p[2] * ec + k};
+            int& slot = net[static_cast<std::size_t>(at[0] + m[0] * (at[1] + m[1] * at[2]))];
+            const Eigen::Vector3d& x = h.points[static_cast<std::size_t>(n)];
+            const double w = h.weight(n);
+            if (slot >= 0 && (first_at[static_cast<std::size_t>(slot)] - x).norm() <= tol &&
+                std::abs(first_weight[static_cast<std::size_t>(slot)] - w) <= 1e-12 * std::abs(w)) {
+              ids.push_back(slot);
+              continue;
+            }
+            const bool side = at[0] == 0 || at[1] == 0 || at[2] == 0 || at[0] == m[0] - 1 || at[1] == m[1] - 1 || at[2] == m[2] - 1;
+            const int id = side || slot >= 0 ? by_position(x, w) : fresh(x, w);
+            if (slot < 0) slot = id;
+            ids.push_back(id);
+          }
+        }
+  }
+  if (e != hexes.size()) throw core::InvalidInputError("shared_points: the element grids cover " + std::to_string(e) + " of " + std::to_string(hexes.size()) + " hexes");
   return ids;
 }
 

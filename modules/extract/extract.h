@@ -67,6 +67,13 @@ struct GlobalBasis {
   double min_coefficient = 0;
 };
 
+/// Elements laid out as a tensor grid (a block's, as extract() orders them): `first` in the hexes
+/// list, then n[0] × n[1] × n[2] elements, u fastest.
+struct ElementGrid {
+  int first = 0;
+  std::array<int, 3> n{};
+};
+
 struct Result {
   std::vector<bezier::BezierHex> hexes;
   GlobalBasis basis;
@@ -98,6 +105,8 @@ struct Result {
   /// The same on the uniform grid of Params::dense_points (quality::worst_grid_samples; empty
   /// without it): where the field between the samples above is lowest.
   std::vector<Worst> worst_dense;
+  /// Each block's elements in `hexes` (shared_points' grids).
+  std::vector<ElementGrid> grids;
 };
 
 /// Distance under which two points of a model in `box` count as equal: rel × its diagonal, plus
@@ -132,6 +141,14 @@ GlobalBasis bezier_basis(const std::vector<bezier::BezierHex>& hexes, bool keep_
 /// neighbouring elements share their face points (the spline is C0 there: its Bézier points
 /// coincide up to rounding); points with other weights stay apart.
 std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes);
+
+/// shared_points on hexes that are grids of elements: the same ids, found by the grids' structure
+/// where it tells (a point of the net of Bézier points inside a grid is its elements' own, merged
+/// by index if within the tolerance and of equal weight) and by position only on the grids' sides.
+/// Only a net with two of its own points within the tolerance of each other (degenerate) numbers
+/// differently: those points stay apart here. The grids must cover the hexes in order, each of
+/// elements of one degree; throws core::InvalidInputError otherwise.
+std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes, const std::vector<ElementGrid>& grids);
 
 /// Extracts the Bézier elements of the splines of the cubes `t` (all of one degree) and measures them
 /// against the input `surface`; boundary deviation is sampled on the cube faces marked boundary.

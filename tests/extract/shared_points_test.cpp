@@ -15,6 +15,7 @@
 #include "core/errors.h"
 #include "extract/extract.h"
 #include "extract/point_index.h"
+#include "extract/two_blocks.h"
 
 using namespace volts;
 using Eigen::Vector3d;
@@ -120,4 +121,25 @@ TEST(SharedPoints, NeighbouringElementsShareTheirFacePointsAndTheFileReadsBack) 
   EXPECT_THROW(bezier::write_bezier_vtu((dir / "b.vtu").string(), hexes, {}, out_of_order), core::InvalidInputError);
   EXPECT_FALSE(std::filesystem::exists(dir / "a.vtu"));
   EXPECT_FALSE(std::filesystem::exists(dir / "b.vtu"));
+}
+
+// The grids' structure (extract's blocks) gives the ids position alone gives, over one curved
+// rational block, the same with a face's weights bent, and two blocks sharing a face; grids that
+// do not cover the hexes are refused.
+TEST(SharedPoints, ByTheGridsAsByPosition) {
+  const std::vector<bezier::BezierHex> one = rational_hexes();  // 2 x 2 x 1 elements
+  EXPECT_EQ(extract::shared_points(one, {{0, {2, 2, 1}}}), extract::shared_points(one));
+  std::vector<bezier::BezierHex> bent = one;
+  for (int k = 0; k <= 3; ++k)
+    for (int j = 0; j <= 3; ++j) bent[1].weights[static_cast<std::size_t>(4 * (j + 4 * k))] *= 1.5;
+  const std::vector<int> apart = extract::shared_points(bent, {{0, {2, 2, 1}}});
+  EXPECT_EQ(apart, extract::shared_points(bent));
+  EXPECT_EQ(*std::max_element(apart.begin(), apart.end()) + 1, 7 * 7 * 4 + 16);
+  const std::vector<bezier::BezierHex> two = test::hexes_of(test::two_blocks());  // 2 x 2 x 2 each, one face shared
+  const std::vector<int> ids = extract::shared_points(two, {{0, {2, 2, 2}}, {8, {2, 2, 2}}});
+  EXPECT_EQ(ids, extract::shared_points(two));
+  EXPECT_EQ(*std::max_element(ids.begin(), ids.end()) + 1, 2 * 7 * 7 * 7 - 7 * 7);
+  EXPECT_THROW(extract::shared_points(two, {{0, {2, 2, 2}}}), core::InvalidInputError);
+  EXPECT_THROW(extract::shared_points(two, {{0, {2, 2, 2}}, {9, {2, 2, 2}}}), core::InvalidInputError);
+  EXPECT_THROW(extract::shared_points(two, {{0, {2, 2, 2}}, {8, {2, 2, 3}}}), core::InvalidInputError);
 }
