@@ -492,68 +492,66 @@ void write_bezier_vtu(const std::string& path, const Result& r) {
   bezier::write_bezier_vtu(path, r.hexes, cells, r.grids.empty() ? shared_points(r.hexes) : shared_points(r.hexes, r.grids));
 }
 
-std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes) {
-  Eigen::AlignedBox3d box;
-  std::size_t total = 0;
-  for (const auto& h : hexes) {
-    for (const auto& x : h.points) box.extend(x);
-    total += h.points.size();
-  }
-  PointIndex index(box, std::max(point_tolerance(box, 1e-12), std::numeric_limits<double>::min()));
-  index.reserve(total / 2);
-  // The index's point -> its file point of that point's weight (a second weight at one position
-  // gets a point of its own, outside the index).
-  std::vector<int> file_point;
-  std::vector<double> weight;
-  std::vector<int> ids;
-  ids.reserve(total);
-  int next = 0;
-  for (const auto& h : hexes)
-    for (int n = 0; n < h.num_points(); ++n) {
-      const int p = index.find_or_add(h.points[static_cast<std::size_t>(n)]);
-      const double w = h.weight(n);
-      if (p == static_cast<int>(file_point.size())) {
-        file_point.push_back(next), weight.push_back(w), ids.push_back(next++);
-      } else if (std::abs(weight[static_cast<std::size_t>(p)] - w) <= 1e-12 * std::abs(w)) {
-        ids.push_back(file_point[static_cast<std::size_t>(p)]);
-      } else {
-        ids.push_back(next++);
-      }
+namespace {
+
+// shared_points' numbering: points in order of first sight; a point within the tolerance of an
+// earlier one of equal weight (1e-12 relative) is that one, one of another weight a point of its own.
+class PointMerger {
+ public:
+  explicit PointMerger(const std::vector<bezier::BezierHex>& hexes) {
+    Eigen::AlignedBox3d box;
+    std::size_t total = 0;
+    for (const auto& h : hexes) {
+      for (const auto& x : h.points) box.extend(x);
+      total += h.points.size();
     }
+    tol_ = std::max(point_tolerance(box, 1e-12), std::numeric_limits<double>::min());
+    index_ = PointIndex(box, tol_);
+    index_.reserve(total / 2);
+    total_ = total;
+  }
+  double tolerance() const { return tol_; }
+  std::size_t total() const { return total_; }  ///< control points of all hexes
+  /// The point's number by its position (the index holds every point given here).
+  int by_position(const Eigen::Vector3d& x, double w) {
+    const int p = index_.find_or_add(x);
+    if (p == static_cast<int>(file_point_.size())) {
+      file_point_.push_back(next_), weight_.push_back(w);
+      return next_++;
+    }
+    if (std::abs(weight_[static_cast<std::size_t>(p)] - w) <= 1e-12 * std::abs(w)) return file_point_[static_cast<std::size_t>(p)];
+    return next_++;  // a second weight at one position: a point of its own, outside the index
+  }
+  /// A new number, for a point no other may be (not indexed).
+  int fresh() { return next_++; }
+
+ private:
+  double tol_ = 0;
+  std::size_t total_ = 0;
+  PointIndex index_{Eigen::AlignedBox3d(), 0.0};
+  std::vector<int> file_point_;  // per index point: its number
+  std::vector<double> weight_;   // per index point
+  int next_ = 0;
+};
+
+}  // namespace
+
+std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes) {
+  PointMerger merge(hexes);
+  std::vector<int> ids;
+  ids.reserve(merge.total());
+  for (const auto& h : hexes)
+    for (int n = 0; n < h.num_points(); ++n) ids.push_back(merge.by_position(h.points[static_cast<std::size_t>(n)], h.weight(n)));
   return ids;
 }
 
 std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes, const std::vector<ElementGrid>& grids) {
-  Eigen::AlignedBox3d box;
-  std::size_t total = 0;
-  for (const auto& h : hexes) {
-    for (const auto& x : h.points) box.extend(x);
-    total += h.points.size();
-  }
-  const double tol = std::max(point_tolerance(box, 1e-12), std::numeric_limits<double>::min());
-  PointIndex index(box, tol);  // the grids' sides only: the points a neighbour may share
-  std::vector<int> file_point;  // per index point: its file point (of that point's weight)
-  std::vector<double> weight;   // per index point
-  std::vector<Eigen::Vector3d> first_at;  // per file point: where it was first seen, and its weight
+  PointMerger merge(hexes);  // the grids' sides only: the points a neighbour may share
+  const double tol = merge.tolerance();
+  std::vector<Eigen::Vector3d> first_at;  // per number: where it was first seen, and its weight
   std::vector<double> first_weight;
   std::vector<int> ids;
-  ids.reserve(total);
-  int next = 0;
-  auto fresh = [&](const Eigen::Vector3d& x, double w) {
-    first_at.push_back(x), first_weight.push_back(w);
-    return next++;
-  };
-  // shared_points' rule: a point within the tolerance of an earlier one of equal weight is that one.
-  auto by_position = [&](const Eigen::Vector3d& x, double w) {
-    const int p = index.find_or_add(x);
-    if (p == static_cast<int>(file_point.size())) {
-      const int id = fresh(x, w);
-      file_point.push_back(id), weight.push_back(w);
-      return id;
-    }
-    if (std::abs(weight[static_cast<std::size_t>(p)] - w) <= 1e-12 * std::abs(w)) return file_point[static_cast<std::size_t>(p)];
-    return fresh(x, w);
-  };
+  ids.reserve(merge.total());
   std::size_t e = 0;
   for (const ElementGrid& g : grids) {
     const long long count = static_cast<long long>(g.n[0]) * g.n[1] * g.n[2];
@@ -561,7 +559,7 @@ std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes, cons
       throw core::InvalidInputError("shared_points: the element grids do not cover the hexes in order (grid at " + std::to_string(g.first) + ")");
     const std::array<int, 3> p = hexes[e].degree;
     const std::array<int, 3> m{p[0] * g.n[0] + 1, p[1] * g.n[1] + 1, p[2] * g.n[2] + 1};
-    std::vector<int> net(static_cast<std::size_t>(m[0]) * m[1] * m[2], -1);  // net point -> file point
+    std::vector<int> net(static_cast<std::size_t>(m[0]) * m[1] * m[2], -1);  // net point -> its number
     for (int ec = 0; ec < g.n[2]; ++ec)
       for (int eb = 0; eb < g.n[1]; ++eb)
         for (int ea = 0; ea < g.n[0]; ++ea, ++e) {
@@ -579,7 +577,8 @@ std::vector<int> shared_points(const std::vector<bezier::BezierHex>& hexes, cons
               continue;
             }
             const bool side = at[0] == 0 || at[1] == 0 || at[2] == 0 || at[0] == m[0] - 1 || at[1] == m[1] - 1 || at[2] == m[2] - 1;
-            const int id = side || slot >= 0 ? by_position(x, w) : fresh(x, w);
+            const int id = side || slot >= 0 ? merge.by_position(x, w) : merge.fresh();
+            if (id == static_cast<int>(first_at.size())) first_at.push_back(x), first_weight.push_back(w);
             if (slot < 0) slot = id;
             ids.push_back(id);
           }
